@@ -1,0 +1,118 @@
+"""Randomized Hough: minimal-sample hypotheses binned on a grid in a log chart.
+
+Where the classical transform lets every datum vote for every compatible
+model, the randomized transform lets each *hypothesis* (from a minimal
+sample) cast one vote, in the cell of its logarithm at a base point. It is
+CLAP with the density estimated by a histogram: the same hypotheses can be
+given to both.
+"""
+
+from __future__ import annotations
+
+import time
+
+import numpy as np
+
+from .._validation import check_int, check_positive
+from ..refine import inliers_of, refit_on_inliers
+from ..result import Cluster, ConsensusResult
+from ..spaces.base import HypothesisSet
+from ..spaces.sampling import generate_hypotheses
+from .peaks import sparse_peaks
+
+__all__ = ["bin_hypotheses", "randomized_hough"]
+
+
+def bin_hypotheses(manifold, models, cell_size, base_point=None):
+    """Cells of hypotheses on a grid in the (weighted) log chart at ``base_point``.
+
+    Returns
+    -------
+    cells : ndarray of int, shape (C, dim)
+        Occupied cells.
+    counts : ndarray of int, shape (C,)
+    cell_of : ndarray of int, shape (H,)
+        Index into ``cells`` of every hypothesis.
+    """
+    base = manifold.reference_point() if base_point is None else base_point
+    coords = manifold.log(models, base) * manifold.tangent_weights
+    if np.iscomplexobj(coords):
+        coords = coords.real
+    keys = np.floor(coords / cell_size).astype(np.int64)
+    cells, cell_of, counts = np.unique(keys, axis=0, return_inverse=True, return_counts=True)
+    return cells, counts, cell_of.reshape(-1)
+
+
+def randomized_hough(space, data, *, hypotheses: HypothesisSet | None = None,
+                     n_hypotheses: int = 1000, cell_size: float, base_point=None,
+                     recentre: bool = True, num_peaks: int = 5, min_distance: int = 1,
+                     residual_threshold: float | None = None, refit: bool = True,
+                     rng=None) -> ConsensusResult:
+    """Vote hypotheses into grid cells and return the fullest cells.
+
+    Parameters
+    ----------
+    space : HypothesisSpace
+    data : array_like
+    hypotheses : HypothesisSet, optional
+        Bin these; otherwise ``n_hypotheses`` are generated.
+    cell_size : float
+        Cell edge in the manifold's weighted tangent coordinates (the same
+        units as its distance).
+    base_point : ndarray, optional
+        Where the chart is taken; default the manifold's reference point.
+    recentre : bool
+        Bin a second time in the chart at the first peak, so the peak does not
+        sit on a chart seam or far from the base where the chart distorts.
+    num_peaks, min_distance : int
+        Peaks to report and their separation in cells.
+    residual_threshold : float, optional
+    refit : bool
+    rng : None, int or numpy.random.Generator
+
+    Returns
+    -------
+    ConsensusResult
+        The estimate is the mean of the hypotheses in the best cell.
+    """
+    t0 = time.perf_counter()
+    data = space.check_data(data)
+    cell = check_positive(cell_size, "cell_size")
+    num_peaks = check_int(num_peaks, "num_peaks", minimum=1)
+    t = (space.default_residual_threshold(data) if residual_threshold is None
+         else check_positive(residual_threshold, "residual_threshold"))
+    if hypotheses is None:
+        hypotheses = generate_hypotheses(space, data, n_hypotheses, rng=rng)
+    models = hypotheses.models
+    manifold = space.manifold
+    n, h = len(data), len(models)
+    diag = {"hypotheses": h, "cell_size": cell, "residual_threshold": t}
+    if h == 0:
+        diag["seconds"] = time.perf_counter() - t0
+        return ConsensusResult.failure("randomized_hough", "no hypotheses", n, h, space, **diag)
+
+    def vote(base):
+        cells, counts, cell_of = bin_hypotheses(manifold, models, cell, base)
+        return cells, counts, cell_of, sparse_peaks(cells, counts, min_distance=min_distance,
+                                                    num_peaks=num_peaks)
+
+    cells, counts, cell_of, peaks = vote(base_point)
+    if recentre:
+        first = np.flatnonzero(cell_of == peaks[0])
+        cells, counts, cell_of, peaks = vote(manifold.mean(models[first], max_iter=20))
+    clusters = []
+    for p in peaks:
+        members = np.flatnonzero(cell_of == p)
+        centre = manifold.mean(models[members], max_iter=20)
+        clusters.append(Cluster(centre, int(counts[p]), cell / 2, members))
+    diag["occupied_cells"] = len(cells)
+    diag["runner_up_ratio"] = clusters[1].support / clusters[0].support if len(clusters) > 1 else 0.0
+    model = clusters[0].model
+    inliers = inliers_of(space, model, data, t)
+    if refit:
+        model, inliers = refit_on_inliers(space, model, data, t)
+    support = np.zeros(h, bool)
+    support[clusters[0].members] = True
+    diag["seconds"] = time.perf_counter() - t0
+    return ConsensusResult("randomized_hough", True, "ok", model, inliers, support,
+                           float(clusters[0].support), clusters, diag, space)
