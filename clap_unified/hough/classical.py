@@ -76,6 +76,10 @@ def hough_lines(points, *, theta_resolution: float = np.pi / 180,
     inliers = inliers_of(space, model, data, t)
     if refit:
         model, inliers = refit_on_inliers(space, model, data, t)
+    if space.refit(data[inliers]) is None:
+        diag["seconds"] = time.perf_counter() - t0
+        return ConsensusResult.failure("hough", "the peak's inliers are degenerate (fewer than "
+                                       "two distinct points)", len(data), 0, space, **diag)
     diag["runner_up_ratio"] = clusters[1].support / clusters[0].support if len(clusters) > 1 else 0.0
     diag["seconds"] = time.perf_counter() - t0
     diag["accumulator"] = acc
