@@ -45,7 +45,8 @@ def as_generator(rng=None) -> np.random.Generator:
             raise ValueError(f"rng: a seed must be non-negative, got {rng}")
         return np.random.default_rng(int(rng))
     raise ValueError(
-        f"rng: expected None, a non-negative int or a numpy.random.Generator, got {type(rng).__name__}"
+        "rng: expected None, a non-negative int or a numpy.random.Generator, "
+        f"got {type(rng).__name__}"
     )
 
 
@@ -68,7 +69,8 @@ def check_array(value, name: str, *, shape: tuple | None = None, finite: bool = 
             got = arr.shape[arr.ndim - len(tail):]
             ok = all(want is None or want == g for want, g in zip(tail, got, strict=True))
         if not ok:
-            want = ", ".join("..." if s is Ellipsis else ("N" if s is None else str(s)) for s in shape)
+            want = ", ".join("..." if s is Ellipsis else ("N" if s is None else str(s))
+                             for s in shape)
             raise ValueError(f"{name}: expected shape ({want}), got {arr.shape}")
     if finite and np.issubdtype(arr.dtype, np.number) and not np.all(np.isfinite(arr)):
         bad = int(np.size(arr) - np.count_nonzero(np.isfinite(arr)))

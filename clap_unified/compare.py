@@ -4,8 +4,6 @@ from __future__ import annotations
 
 import time
 
-import numpy as np
-
 from ._validation import as_generator, check_choice, check_int
 from .clap import clap
 from .hough import hough_lines, randomized_hough

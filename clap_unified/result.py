@@ -6,7 +6,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-__all__ = ["Cluster", "ConsensusResult"]
+__all__ = ["Cluster", "ConsensusResult", "runner_up_ratio"]
 
 
 @dataclass
@@ -33,8 +33,16 @@ class Cluster:
     members: np.ndarray = field(default_factory=lambda: np.empty(0, dtype=np.intp))
 
     def to_dict(self, space=None) -> dict:
-        model = space.model_to_dict(self.model) if space is not None else np.asarray(self.model).tolist()
+        model = (space.model_to_dict(self.model) if space is not None
+                 else np.asarray(self.model).tolist())
         return {"model": model, "support": int(self.support), "spread": float(self.spread)}
+
+
+def runner_up_ratio(clusters) -> float:
+    """Support of the second cluster over the first (0 when there is one): near 1 = ambiguous."""
+    if len(clusters) < 2 or clusters[0].support == 0:
+        return 0.0
+    return clusters[1].support / clusters[0].support
 
 
 @dataclass

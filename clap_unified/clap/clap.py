@@ -20,7 +20,7 @@ import numpy as np
 
 from .._validation import check_choice, check_int, check_positive
 from ..refine import inliers_of, refit_on_inliers
-from ..result import Cluster, ConsensusResult
+from ..result import Cluster, ConsensusResult, runner_up_ratio
 from ..spaces.base import HypothesisSet
 from ..spaces.sampling import generate_hypotheses
 from .centres import CENTRES
@@ -178,7 +178,7 @@ def clap(space, data, *, hypotheses: HypothesisSet | None = None, n_hypotheses: 
     best = clusters[0]
     diag["clusters"] = len(clusters)
     diag["spread"] = best.spread
-    diag["runner_up_ratio"] = clusters[1].support / best.support if len(clusters) > 1 else 0.0
+    diag["runner_up_ratio"] = runner_up_ratio(clusters)
     model = best.model
     inliers = inliers_of(space, model, data, t)
     if refit:

@@ -191,7 +191,10 @@ class Manifold(ABC):
         pts = self._check_sample(points)
         w = self._check_weights(weights, pts.shape[0])
         max_iter = check_int(max_iter, "max_iter", minimum=1)
-        base = self.mean(pts, w, max_iter=10) if initial is None else self.validate(initial, "initial")
+        if initial is None:
+            base = self.mean(pts, w, max_iter=10)
+        else:
+            base = self.validate(initial, "initial")
         for _ in range(max_iter):
             logs = self.log(pts, base)
             d = np.maximum(self.norm(logs), eps)

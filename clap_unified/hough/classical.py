@@ -8,7 +8,7 @@ import numpy as np
 
 from .._validation import check_positive
 from ..refine import inliers_of, refit_on_inliers
-from ..result import Cluster, ConsensusResult
+from ..result import Cluster, ConsensusResult, runner_up_ratio
 from ..spaces.lines import LineSpace
 from .accumulator import line_accumulator
 from .peaks import accumulator_peaks
@@ -80,7 +80,7 @@ def hough_lines(points, *, theta_resolution: float = np.pi / 180,
         diag["seconds"] = time.perf_counter() - t0
         return ConsensusResult.failure("hough", "the peak's inliers are degenerate (fewer than "
                                        "two distinct points)", len(data), 0, space, **diag)
-    diag["runner_up_ratio"] = clusters[1].support / clusters[0].support if len(clusters) > 1 else 0.0
+    diag["runner_up_ratio"] = runner_up_ratio(clusters)
     diag["seconds"] = time.perf_counter() - t0
     diag["accumulator"] = acc
     return ConsensusResult("hough", True, "ok", model, inliers, np.zeros(0, bool),

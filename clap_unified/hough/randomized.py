@@ -15,7 +15,7 @@ import numpy as np
 
 from .._validation import check_int, check_positive
 from ..refine import inliers_of, refit_on_inliers
-from ..result import Cluster, ConsensusResult
+from ..result import Cluster, ConsensusResult, runner_up_ratio
 from ..spaces.base import HypothesisSet
 from ..spaces.sampling import generate_hypotheses
 from .peaks import sparse_peaks
@@ -106,7 +106,7 @@ def randomized_hough(space, data, *, hypotheses: HypothesisSet | None = None,
         centre = manifold.mean(models[members], max_iter=20)
         clusters.append(Cluster(centre, int(counts[p]), cell / 2, members))
     diag["occupied_cells"] = len(cells)
-    diag["runner_up_ratio"] = clusters[1].support / clusters[0].support if len(clusters) > 1 else 0.0
+    diag["runner_up_ratio"] = runner_up_ratio(clusters)
     model = clusters[0].model
     inliers = inliers_of(space, model, data, t)
     if refit:
