@@ -4,7 +4,7 @@ import sys
 
 import numpy as np
 import pytest
-from conftest import line_scene
+from scenes import line_scene
 
 from clap_unified.cli import main
 

@@ -2,7 +2,7 @@
 
 import numpy as np
 import pytest
-from conftest import line_errors, line_scene
+from scenes import line_errors, line_scene
 
 from clap_unified import compare, fit_line
 from clap_unified.clap import clap, mad_centre, trimmed_centre

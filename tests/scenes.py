@@ -1,5 +1,6 @@
+"""Synthetic line scenes shared by the tests."""
+
 import numpy as np
-import pytest
 
 
 def line_scene(n=200, outlier_ratio=0.5, theta=0.3, intercept=1.0, noise=0.02, seed=0,
@@ -25,8 +26,3 @@ def line_errors(space, model, theta=0.3, intercept=1.0):
     s = np.sign(np.dot([a, b], true_normal)) or 1.0
     cosang = np.clip(abs(np.dot([a, b], true_normal)), 0, 1)
     return np.degrees(np.arccos(cosang)), abs(s * c - true_offset)
-
-
-@pytest.fixture
-def scene():
-    return line_scene
