@@ -1,0 +1,186 @@
+"""Hypothesis space of planar homographies: four correspondences make one.
+
+Convention: ``x2 ~ H x1`` for correspondences ``(x1, y1, x2, y2)`` (the VPG
+format). Minimal solver: normalised DLT, batched over all samples with one
+``numpy.linalg.svd`` call. Models are normalised so that ``H[2, 2] = 1``.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .._validation import check_choice, check_points
+from .base import HypothesisSpace
+
+__all__ = ["HomographySpace", "dlt", "normalise_points"]
+
+
+def normalise_points(points, weights=None):
+    """Hartley normalisation of point sets, batched.
+
+    Parameters
+    ----------
+    points : ndarray of shape (..., N, 2)
+    weights : ndarray of shape (..., N), optional
+
+    Returns
+    -------
+    normalised : ndarray of shape (..., N, 2)
+        Centroid at the origin, mean distance sqrt(2).
+    T : ndarray of shape (..., 3, 3)
+        The similarity with ``normalised = T @ points`` (homogeneous).
+    """
+    p = np.asarray(points, dtype=float)
+    w = np.ones(p.shape[:-1]) if weights is None else np.asarray(weights, dtype=float)
+    wsum = w.sum(axis=-1, keepdims=True)
+    centre = (w[..., None] * p).sum(axis=-2) / wsum
+    d = np.linalg.norm(p - centre[..., None, :], axis=-1)
+    mean_d = (w * d).sum(axis=-1) / wsum[..., 0]
+    s = np.sqrt(2.0) / np.where(mean_d > 0, mean_d, 1.0)
+    T = np.zeros((*p.shape[:-2], 3, 3))
+    T[..., 0, 0] = T[..., 1, 1] = s
+    T[..., 0, 2] = -s * centre[..., 0]
+    T[..., 1, 2] = -s * centre[..., 1]
+    T[..., 2, 2] = 1.0
+    return (p - centre[..., None, :]) * s[..., None, None], T
+
+
+def dlt(src, dst, weights=None) -> np.ndarray:
+    """Normalised direct linear transform, batched: ``dst ~ H src``.
+
+    Parameters
+    ----------
+    src, dst : ndarray of shape (..., N, 2), N >= 4
+    weights : ndarray of shape (..., N), optional
+
+    Returns
+    -------
+    ndarray of shape (..., 3, 3)
+        Homographies scaled to unit Frobenius norm (not yet ``H33 = 1``).
+
+    Examples
+    --------
+    >>> H = np.array([[1.0, 0.2, 3.0], [0.1, 0.9, -2.0], [1e-3, 2e-3, 1.0]])
+    >>> src = np.array([[0.0, 0.0], [100.0, 0.0], [100.0, 80.0], [0.0, 80.0], [50.0, 30.0]])
+    >>> h = np.c_[src, np.ones(5)] @ H.T
+    >>> est = dlt(src, h[:, :2] / h[:, 2:])
+    >>> np.allclose(est / est[2, 2], H)
+    True
+    """
+    s, Ts = normalise_points(src, weights)
+    d, Td = normalise_points(dst, weights)
+    x, y = s[..., 0], s[..., 1]
+    u, v = d[..., 0], d[..., 1]
+    one, zero = np.ones_like(x), np.zeros_like(x)
+    r1 = np.stack([-x, -y, -one, zero, zero, zero, u * x, u * y, u], axis=-1)
+    r2 = np.stack([zero, zero, zero, -x, -y, -one, v * x, v * y, v], axis=-1)
+    A = np.concatenate([r1, r2], axis=-2)  # (..., 2N, 9)
+    if weights is not None:
+        sw = np.sqrt(np.asarray(weights, dtype=float))
+        A = A * np.concatenate([sw, sw], axis=-1)[..., None]
+    _, _, vt = np.linalg.svd(A, full_matrices=True)
+    Hn = vt[..., -1, :].reshape(*A.shape[:-2], 3, 3)
+    H = np.linalg.inv(Td) @ Hn @ Ts
+    return H / np.linalg.norm(H, axis=(-2, -1), keepdims=True)
+
+
+def _has_collinear_triple(p, tol: float) -> np.ndarray:
+    """True for samples ``(S, 4, 2)`` in which some three points are (nearly) collinear."""
+    out = np.zeros(p.shape[0], bool)
+    scale = max(float(np.max(np.abs(p), initial=0.0)), 1.0) ** 2
+    for i, j, k in ((0, 1, 2), (0, 1, 3), (0, 2, 3), (1, 2, 3)):
+        a, b, c = p[:, i], p[:, j], p[:, k]
+        ab, ac = b - a, c - a
+        cross = ab[:, 0] * ac[:, 1] - ab[:, 1] * ac[:, 0]
+        out |= np.abs(cross) <= tol * scale
+    return out
+
+
+class HomographySpace(HypothesisSpace):
+    """Planar homographies from point correspondences ``(x1, y1, x2, y2)``.
+
+    Parameters
+    ----------
+    residual : {"transfer", "symmetric"}
+        ``transfer``: ``||x2 - H x1||``; ``symmetric``: root mean square of
+        the forward and backward transfer errors (pixels).
+    normalization : {"h33", "det"}
+        Normalisation of the homography group used for distances.
+    """
+
+    min_samples = 4
+    model_shape = (3, 3)
+    name = "homography"
+
+    def __init__(self, residual: str = "transfer", normalization: str = "h33"):
+        self.residual = check_choice(residual, "residual", {"transfer", "symmetric"})
+        self.normalization = check_choice(normalization, "normalization", {"h33", "det"})
+        self._manifold = None
+
+    def __repr__(self) -> str:
+        return f"HomographySpace(residual={self.residual!r}, normalization={self.normalization!r})"
+
+    @property
+    def manifold(self):
+        if self._manifold is None:
+            from ..geometry.homography import Homography
+
+            self._manifold = Homography(normalization=self.normalization)
+        return self._manifold
+
+    def check_data(self, data) -> np.ndarray:
+        return check_points(data, "matches", dim=4, min_count=self.min_samples)
+
+    def solve_minimal(self, data, samples):
+        src = data[samples][..., :2]
+        dst = data[samples][..., 2:]
+        ok = ~(_has_collinear_triple(src, 1e-9) | _has_collinear_triple(dst, 1e-9))
+        H = dlt(src[ok], dst[ok]) if np.any(ok) else np.empty((0, 3, 3))
+        h33 = H[:, 2, 2]
+        good = np.abs(h33) > 1e-12 * np.abs(H).max(axis=(1, 2))
+        H = H[good] / h33[good, None, None]
+        owner = np.flatnonzero(ok)[good]
+        finite = np.all(np.isfinite(H), axis=(1, 2))
+        return H[finite], owner[finite]
+
+    def refit(self, data, weights=None):
+        data = np.asarray(data, dtype=float)
+        w = None if weights is None else np.asarray(weights, dtype=float)
+        if w is not None:
+            keep = w > 0
+            data, w = data[keep], w[keep]
+        if len(data) < 4:
+            return None
+        H = dlt(data[:, :2], data[:, 2:], w)
+        if abs(H[2, 2]) <= 1e-12 or not np.all(np.isfinite(H)):
+            return None
+        H = H / H[2, 2]
+        if np.linalg.matrix_rank(H) < 3:
+            return None
+        return H
+
+    @staticmethod
+    def _transfer(H, src, dst):
+        p = np.einsum("hij,nj->hni", H, np.c_[src, np.ones(len(src))])
+        with np.errstate(divide="ignore", invalid="ignore"):
+            proj = p[..., :2] / p[..., 2:]
+        err = np.linalg.norm(proj - dst[None], axis=-1)
+        return np.where(np.isfinite(err), err, np.inf)
+
+    def residuals(self, models, data) -> np.ndarray:
+        H = np.asarray(models, dtype=float).reshape(-1, 3, 3)
+        data = np.asarray(data, dtype=float)
+        fwd = self._transfer(H, data[:, :2], data[:, 2:])
+        if self.residual == "transfer":
+            return fwd
+        with np.errstate(all="ignore"):
+            Hinv = np.linalg.inv(H)
+        bwd = self._transfer(Hinv, data[:, 2:], data[:, :2])
+        return np.sqrt(0.5 * (fwd**2 + bwd**2))
+
+    def model_to_dict(self, model) -> dict:
+        H = np.asarray(model, dtype=float)
+        return {"H": (H / H[2, 2]).tolist()}
+
+    def default_residual_threshold(self, data) -> float:
+        return 3.0  # pixels, OpenCV's default ransacReprojThreshold
