@@ -1,6 +1,19 @@
-"""Geometry: the manifolds and Lie groups hypotheses live in."""
+"""Geometry: the manifolds and Lie groups hypotheses live in.
 
+* :class:`Line2D`: lines in the plane (a chart, not a group);
+* :class:`SE2`, :class:`SE3`: rigid motions;
+* :class:`Homography`: planar homographies (PGL(3) with the ``H33 = 1`` or
+  ``det = 1`` normalisation), with the paper's :func:`lie_distance`.
+"""
+
+from ._matrix import expm, logm
 from .base import Manifold, MatrixLieGroup
+from .homography import Homography, frobenius_distance, lie_distance, normalise_h33
 from .lines import Line2D, canonical_lines, wrap_angle
+from .se2 import SE2
+from .se3 import SE3
+from .so3 import so3_exp, so3_hat, so3_log, so3_vee
 
-__all__ = ["Line2D", "Manifold", "MatrixLieGroup", "canonical_lines", "wrap_angle"]
+__all__ = ["SE2", "SE3", "Homography", "Line2D", "Manifold", "MatrixLieGroup",
+           "canonical_lines", "expm", "frobenius_distance", "lie_distance", "logm",
+           "normalise_h33", "so3_exp", "so3_hat", "so3_log", "so3_vee", "wrap_angle"]

@@ -45,6 +45,8 @@ class Manifold(ABC):
     point_shape: tuple
     #: True when :meth:`distance` satisfies the triangle inequality.
     is_metric: bool = False
+    #: True when ``d(a, b) = d(b, a)``; pairwise matrices then evaluate each pair once.
+    is_symmetric: bool = True
     #: Short name used in reprs and figures.
     name: str = "manifold"
 
@@ -116,12 +118,26 @@ class Manifold(ABC):
                 f"got {a.shape} and {b.shape}"
             )
         n, m = a.shape[0], b.shape[0]
+        if points_b is None and self.is_symmetric:
+            return self._pairwise_symmetric(a)
         out = np.empty((n, m))
         rows = max(1, PAIRWISE_BLOCK // max(m, 1))
         for start in range(0, n, rows):
             stop = min(n, start + rows)
             base = a[start:stop, None]
             out[start:stop] = self.distance(base, b[None, :])
+        return out
+
+    def _pairwise_symmetric(self, a) -> np.ndarray:
+        """All distances within one set, evaluating each unordered pair once."""
+        n = a.shape[0]
+        out = np.zeros((n, n))
+        i, j = np.triu_indices(n, 1)
+        for start in range(0, len(i), PAIRWISE_BLOCK):
+            sl = slice(start, start + PAIRWISE_BLOCK)
+            d = self.distance(a[i[sl]], a[j[sl]])
+            out[i[sl], j[sl]] = d
+            out[j[sl], i[sl]] = d
         return out
 
     # -------------------------------------------------------------- averages
