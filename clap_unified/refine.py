@@ -15,8 +15,11 @@ def inliers_of(space, model, data, threshold: float) -> np.ndarray:
 def refit_on_inliers(space, model, data, threshold: float, *, iterations: int = 2):
     """Refit ``model`` on its inliers, up to ``iterations`` times.
 
-    Each round refits on the current inliers and keeps the refit only if it
-    has at least as many inliers; stops when the inlier set no longer changes.
+    The first refit is always taken when it is not degenerate (least squares
+    on the inliers is more accurate than the minimal-sample model even when it
+    loses an inlier or two at the edge of the threshold, as in scikit-image and
+    OpenCV); later rounds are kept only while the inlier set does not shrink,
+    and stop when it no longer changes.
 
     Returns
     -------
@@ -24,14 +27,16 @@ def refit_on_inliers(space, model, data, threshold: float, *, iterations: int = 
     inliers : ndarray of bool, shape (N,)
     """
     inliers = inliers_of(space, model, data, threshold)
-    for _ in range(iterations):
+    for round_ in range(iterations):
         if np.count_nonzero(inliers) < space.min_samples:
             break
         new = space.refit(data[inliers])
         if new is None:
             break
         new_inliers = inliers_of(space, new, data, threshold)
-        if np.count_nonzero(new_inliers) < np.count_nonzero(inliers):
+        if round_ > 0 and np.count_nonzero(new_inliers) < np.count_nonzero(inliers):
+            break
+        if np.count_nonzero(new_inliers) < space.min_samples:
             break
         changed = not np.array_equal(new_inliers, inliers)
         model, inliers = new, new_inliers

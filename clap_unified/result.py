@@ -18,13 +18,15 @@ class Cluster:
     model : ndarray
         The cluster centre (a model of the hypothesis space).
     support : int
-        Hypotheses in the cluster (votes in a Hough cell, members for CLAP,
-        data inliers for RANSAC).
+        Hypotheses behind the cluster: votes in a Hough cell, for CLAP the
+        hypotheses in the neighbourhood the centre was computed from (within
+        the bandwidth of the seed, or within the radius of the guess in local
+        mode; before trimming), data inliers for RANSAC.
     spread : float
         Median distance of the members to the centre, in the manifold's
         distance (0 for a single member).
     members : ndarray of int
-        Indices of the member hypotheses in the hypothesis set.
+        Indices of the hypotheses the centre rests on (after trimming).
     """
 
     model: np.ndarray

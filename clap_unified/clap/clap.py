@@ -48,7 +48,7 @@ def clap(space, data, *, hypotheses: HypothesisSet | None = None, n_hypotheses: 
          mode: str = "global", initial_guess=None, radius: float | None = None,
          bandwidth: float | None = None, centre: str = "medoid", rejection: str = "trim",
          rounds: int = 5, discard_fraction: float = 0.2, mad_k: float = 3.0,
-         max_clusters: int = 5, min_support: int = 3, refit: bool = True,
+         max_clusters: int = 5, min_support: int = 3, suppress: float = 3.0, refit: bool = True,
          residual_threshold: float | None = None, rng=None) -> ConsensusResult:
     """Robust estimate as the centre of the densest cluster of hypotheses.
 
@@ -78,6 +78,10 @@ def clap(space, data, *, hypotheses: HypothesisSet | None = None, n_hypotheses: 
         Global mode: clusters to report at most.
     min_support : int
         Clusters with fewer members are not reported.
+    suppress : float
+        Global mode: once a cluster is found, hypotheses within
+        ``suppress * bandwidth`` of its seed or of its centre cannot seed
+        another cluster (non-maximum suppression in hypothesis space).
     refit : bool
         Refit the best centre on its data inliers.
     residual_threshold : float, optional
@@ -110,6 +114,7 @@ def clap(space, data, *, hypotheses: HypothesisSet | None = None, n_hypotheses: 
     check_choice(centre, "centre", set(CENTRES))
     check_choice(rejection, "rejection", {"trim", "mad", "none"})
     max_clusters = check_int(max_clusters, "max_clusters", minimum=1)
+    suppress = check_positive(suppress, "suppress")
     min_support = check_int(min_support, "min_support", minimum=1)
     t = (space.default_residual_threshold(data) if residual_threshold is None
          else check_positive(residual_threshold, "residual_threshold"))
@@ -144,8 +149,7 @@ def clap(space, data, *, hypotheses: HypothesisSet | None = None, n_hypotheses: 
             return fail(f"only {len(near)} hypotheses within radius {radius:g} of initial_guess "
                         f"(min_support={min_support})")
         c, keep = _robust_centre(manifold, models[near], **robust)
-        members = near[keep]
-        clusters.append(_cluster(manifold, c, models, members))
+        clusters.append(_cluster(manifold, c, models, near[keep], support=len(near)))
     else:
         # One distance matrix when it fits in memory (~130 MB at 4000 hypotheses),
         # otherwise blocks recomputed on demand.
@@ -165,10 +169,13 @@ def clap(space, data, *, hypotheses: HypothesisSet | None = None, n_hypotheses: 
                 continue
             d_seed = dist[seed] if dist is not None else manifold.distance(models[seed], models)
             near = np.flatnonzero(available & (d_seed <= bw))
-            available &= d_seed > 2 * bw
+            available &= d_seed > suppress * bw
             if len(near) < min_support:
                 continue
             c, keep = _robust_centre(manifold, models[near], **robust)
+            # suppress around the centre too, so the rest of a wide cluster cannot
+            # seed a second "possibility" that is the same answer
+            available &= manifold.distance(c, models) > suppress * bw
             clusters.append(_cluster(manifold, c, models, near[keep], support=len(near)))
         if not clusters:
             return fail(f"no cluster with at least {min_support} hypotheses within bandwidth "

@@ -1,0 +1,26 @@
+"""Plotting, printing and small synthetic scenes for the book.
+
+Nothing in the estimators depends on this subpackage. The chapters of the
+book import it so their cells stay short: one :func:`book_style` call at the
+top of a chapter fixes print precision and figure style (which is what keeps
+notebook outputs stable under ``pytest --nbval``), and the ``plot_*`` helpers
+draw on a Matplotlib ``Axes`` the chapter passes in. The backend is never
+touched here.
+"""
+
+from .plots import plot_accumulator, plot_error_curves, plot_hypotheses, plot_points_and_lines
+from .scenes import LineScene, line_errors, line_scene
+from .style import METHOD_STYLE, book_style, format_table
+
+__all__ = [
+    "METHOD_STYLE",
+    "LineScene",
+    "book_style",
+    "format_table",
+    "line_errors",
+    "line_scene",
+    "plot_accumulator",
+    "plot_error_curves",
+    "plot_hypotheses",
+    "plot_points_and_lines",
+]
