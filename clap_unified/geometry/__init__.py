@@ -3,7 +3,9 @@
 * :class:`Line2D`: lines in the plane (a chart, not a group);
 * :class:`SE2`, :class:`SE3`: rigid motions;
 * :class:`Homography`: planar homographies (PGL(3) with the ``H33 = 1`` or
-  ``det = 1`` normalisation), with the paper's :func:`lie_distance`.
+  ``det = 1`` normalisation), with the paper's :func:`lie_distance`;
+* plain batched array functions: SO(3) maps (``so3_*``) and the matrix
+  :func:`expm` / principal :func:`logm`.
 """
 
 from ._matrix import expm, logm
@@ -12,8 +14,16 @@ from .homography import Homography, frobenius_distance, lie_distance, normalise_
 from .lines import Line2D, canonical_lines, wrap_angle
 from .se2 import SE2
 from .se3 import SE3
-from .so3 import so3_exp, so3_hat, so3_log, so3_vee
+from .so3 import (
+    so3_exp,
+    so3_hat,
+    so3_left_jacobian,
+    so3_left_jacobian_inverse,
+    so3_log,
+    so3_vee,
+)
 
 __all__ = ["SE2", "SE3", "Homography", "Line2D", "Manifold", "MatrixLieGroup",
            "canonical_lines", "expm", "frobenius_distance", "lie_distance", "logm",
-           "normalise_h33", "so3_exp", "so3_hat", "so3_log", "so3_vee", "wrap_angle"]
+           "normalise_h33", "so3_exp", "so3_hat", "so3_left_jacobian",
+           "so3_left_jacobian_inverse", "so3_log", "so3_vee", "wrap_angle"]

@@ -4,15 +4,14 @@ from __future__ import annotations
 
 import numpy as np
 
-from .._validation import check_positive
+from .._validation import check_array, check_positive
 from .base import MatrixLieGroup
-from .lines import wrap_angle
 
 __all__ = ["SE2"]
 
 
 def _coefficients(theta):
-    """sin(t)/t and (1 - cos t)/t with Taylor series near 0."""
+    """``sin(t)/t`` and ``(1 - cos t)/t`` with Taylor series near 0."""
     small = np.abs(theta) < 1e-6
     ts = np.where(small, 1.0, theta)
     a = np.where(small, 1 - theta**2 / 6, np.sin(ts) / ts)
@@ -21,23 +20,31 @@ def _coefficients(theta):
 
 
 class SE2(MatrixLieGroup):
-    """Planar poses ``[[R, t], [0, 1]]``; tangent ``(rho_x, rho_y, theta)``.
+    """Planar poses ``T = [[R(theta), t], [0, 1]]``, points of shape ``(..., 3, 3)``.
 
-    The distance ``sqrt(|rho|^2 + angle_weight^2 theta^2)`` of ``log(a^-1 b)``
-    is left-invariant and symmetric; it is not a true metric in general (the
-    log chart is not a geodesic distance of a bi-invariant metric).
+    The tangent vector is ``(rho_x, rho_y, theta)`` with the closed-form
+    exponential ``t = V(theta) rho``, ``V = [[a, -b], [b, a]]``,
+    ``a = sin(theta)/theta``, ``b = (1 - cos(theta))/theta`` (Taylor series
+    near ``theta = 0``); the logarithm returns ``theta`` in ``(-pi, pi]``.
+
+    The distance ``d(a, b) = sqrt(|rho|^2 + angle_weight^2 theta^2)`` of
+    ``log(a^-1 b)`` is left-invariant and symmetric (except at ``theta = pi``
+    exactly) but not a true metric: it is not the geodesic distance of a
+    Riemannian metric and the triangle inequality can fail.
 
     Parameters
     ----------
     angle_weight : float
-        lambda, metres per radian.
+        lambda, metres per radian; ``tangent_weights = (1, 1, lambda)``.
 
     Examples
     --------
-    >>> g = SE2()
+    >>> g = SE2(angle_weight=2.0)
     >>> a = g.from_xytheta(1.0, 2.0, np.pi / 2)
     >>> g.to_xytheta(g.compose(a, a)).round(6).tolist()
     [-1.0, 3.0, 3.141593]
+    >>> print(f"{float(g.distance(g.identity(), g.from_xytheta(0.0, 0.0, 0.5))):.4f}")
+    1.0000
     """
 
     dim = 3
@@ -52,10 +59,27 @@ class SE2(MatrixLieGroup):
     def __repr__(self) -> str:
         return f"SE2(angle_weight={self.angle_weight:g})"
 
+    # ------------------------------------------------------------ constructors
     @staticmethod
     def from_xytheta(x, y, theta) -> np.ndarray:
-        """Matrices ``(..., 3, 3)`` from positions and headings (broadcast)."""
-        x, y, theta = np.broadcast_arrays(*(np.asarray(v, dtype=float) for v in (x, y, theta)))
+        """Poses from positions and headings.
+
+        Parameters
+        ----------
+        x, y, theta : array_like, broadcastable to a common shape S
+            Position (metres) and heading (radians).
+
+        Returns
+        -------
+        ndarray of shape (*S, 3, 3)
+
+        Examples
+        --------
+        >>> SE2.from_xytheta([0.0, 1.0], 2.0, 0.0)[:, :2, 2].tolist()
+        [[0.0, 2.0], [1.0, 2.0]]
+        """
+        x, y, theta = (check_array(v, n) for v, n in ((x, "x"), (y, "y"), (theta, "theta")))
+        x, y, theta = np.broadcast_arrays(x, y, theta)
         c, s = np.cos(theta), np.sin(theta)
         T = np.zeros((*x.shape, 3, 3))
         T[..., 0, 0], T[..., 0, 1], T[..., 0, 2] = c, -s, x
@@ -65,11 +89,28 @@ class SE2(MatrixLieGroup):
 
     @staticmethod
     def to_xytheta(T) -> np.ndarray:
-        """``(..., 3)`` rows ``(x, y, theta)`` with theta in ``[-pi, pi)``."""
-        T = np.asarray(T, dtype=float)
+        """Positions and headings of poses.
+
+        Parameters
+        ----------
+        T : ndarray of shape (..., 3, 3)
+
+        Returns
+        -------
+        ndarray of shape (..., 3)
+            Rows ``(x, y, theta)`` with ``theta`` in ``(-pi, pi]``.
+
+        Examples
+        --------
+        >>> SE2.to_xytheta(SE2.from_xytheta(1.0, -2.0, 0.5)).round(6).tolist()
+        [1.0, -2.0, 0.5]
+        """
+        T = check_array(T, "T", shape=(Ellipsis, 3, 3))
         return np.stack([T[..., 0, 2], T[..., 1, 2], np.arctan2(T[..., 1, 0], T[..., 0, 0])], -1)
 
+    # ------------------------------------------------------------ group maps
     def inverse(self, a) -> np.ndarray:
+        """Closed-form inverse ``[[R^T, -R^T t], [0, 1]]`` of ``(..., 3, 3)`` poses."""
         a = np.asarray(a, dtype=float)
         out = np.zeros_like(a)
         Rt = np.swapaxes(a[..., :2, :2], -1, -2)
@@ -79,6 +120,7 @@ class SE2(MatrixLieGroup):
         return out
 
     def hat(self, tangent) -> np.ndarray:
+        """``(..., 3) -> (..., 3, 3)``: ``[[0, -theta, rho_x], [theta, 0, rho_y], [0, 0, 0]]``."""
         v = np.asarray(tangent, dtype=float)
         out = np.zeros((*v.shape[:-1], 3, 3))
         out[..., 0, 1], out[..., 1, 0] = -v[..., 2], v[..., 2]
@@ -86,10 +128,12 @@ class SE2(MatrixLieGroup):
         return out
 
     def vee(self, matrix) -> np.ndarray:
+        """``(..., 3, 3) -> (..., 3)``, inverse of :meth:`hat`."""
         m = np.asarray(matrix)
         return np.stack([m[..., 0, 2], m[..., 1, 2], m[..., 1, 0]], -1)
 
     def expmap(self, tangent) -> np.ndarray:
+        """Closed-form exponential ``(..., 3) -> (..., 3, 3)``."""
         v = np.asarray(tangent, dtype=float)
         theta = v[..., 2]
         a, b = _coefficients(theta)
@@ -98,17 +142,39 @@ class SE2(MatrixLieGroup):
         return self.from_xytheta(x, y, theta)
 
     def logmap(self, point) -> np.ndarray:
+        """Closed-form logarithm ``(..., 3, 3) -> (..., 3)``, ``theta`` in ``(-pi, pi]``."""
         T = np.asarray(point, dtype=float)
         theta = np.arctan2(T[..., 1, 0], T[..., 0, 0])
         a, b = _coefficients(theta)
-        det = a**2 + b**2
+        det = a**2 + b**2  # V^-1 = [[a, b], [-b, a]] / det; det >= 4 / pi^2 for |theta| <= pi
         tx, ty = T[..., 0, 2], T[..., 1, 2]
         return np.stack([(a * tx + b * ty) / det, (-b * tx + a * ty) / det, theta], -1)
 
+    # --------------------------------------------------------------- average
     def split_mean(self, points, weights=None) -> np.ndarray:
-        """Circular mean of the headings and arithmetic mean of the positions."""
+        """Circular mean of the headings and arithmetic mean of the positions.
+
+        Parameters
+        ----------
+        points : ndarray of shape (N, 3, 3)
+        weights : ndarray of shape (N,), optional
+            Non-negative, normalised to sum to one.
+
+        Returns
+        -------
+        ndarray of shape (3, 3)
+            Heading ``atan2(sum w sin(theta), sum w cos(theta))`` (0 when the
+            headings cancel exactly), position ``sum w t``.
+
+        Examples
+        --------
+        >>> g = SE2()
+        >>> pts = g.from_xytheta([0.0, 2.0], [0.0, 0.0], [3.0, -3.0])
+        >>> g.to_xytheta(g.split_mean(pts)).round(6).tolist()
+        [1.0, 0.0, 3.141593]
+        """
         pts = self._check_sample(points)
         w = self._check_weights(weights, pts.shape[0])
         xyt = self.to_xytheta(pts)
         theta = np.arctan2(w @ np.sin(xyt[:, 2]), w @ np.cos(xyt[:, 2]))
-        return self.from_xytheta(w @ xyt[:, 0], w @ xyt[:, 1], wrap_angle(theta))
+        return self.from_xytheta(w @ xyt[:, 0], w @ xyt[:, 1], theta)

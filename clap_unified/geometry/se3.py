@@ -12,15 +12,26 @@ __all__ = ["SE3"]
 
 
 class SE3(MatrixLieGroup):
-    """Poses ``[[R, t], [0, 1]]``; tangent ``(rho, phi)`` (translation part first).
+    """Poses ``T = [[R, t], [0, 1]]``, points of shape ``(..., 4, 4)``.
 
-    The paper's distances (Section IV-B):
+    The tangent vector is ``(rho, phi)`` (dim 6, translation part first) with
+    the closed-form exponential ``R = exp(phi)``, ``t = V(phi) rho`` (see
+    :mod:`~clap_unified.geometry.so3`); note that ``rho = V(phi)^-1 t`` is
+    not the translation itself.
+
+    The paper's distances between poses:
 
     * relative transform error ``(e_t, e_r)`` of ``T1^-1 T2``: :meth:`relative_error`;
     * Lie-log scalar ``sqrt(|rho|^2 + lambda^2 |phi|^2)`` of ``log(T1^-1 T2)``:
-      :meth:`distance` with ``angle_weight = lambda`` (left-invariant,
-      symmetric, not a true metric);
+      :meth:`distance` with ``angle_weight = lambda``, i.e. tangent weights
+      ``(1, 1, 1, lambda, lambda, lambda)``. It is left-invariant and
+      symmetric but not a true metric (the triangle inequality can fail);
     * point-set induced distance: :meth:`point_set_distance`.
+
+    Parameters
+    ----------
+    angle_weight : float
+        lambda, metres per radian.
 
     Examples
     --------
@@ -42,11 +53,28 @@ class SE3(MatrixLieGroup):
     def __repr__(self) -> str:
         return f"SE3(angle_weight={self.angle_weight:g})"
 
+    # ------------------------------------------------------------ constructors
     @staticmethod
     def from_rt(R, t) -> np.ndarray:
-        """Matrices ``(..., 4, 4)`` from rotations ``(..., 3, 3)`` and translations ``(..., 3)``."""
-        R = np.asarray(R, dtype=float)
-        t = np.asarray(t, dtype=float)
+        """Poses from rotations and translations.
+
+        Parameters
+        ----------
+        R : ndarray of shape (..., 3, 3)
+        t : ndarray of shape (..., 3)
+            Leading axes broadcast against those of ``R``.
+
+        Returns
+        -------
+        ndarray of shape (..., 4, 4)
+
+        Examples
+        --------
+        >>> SE3.from_rt(np.eye(3), [1.0, 2.0, 3.0])[:3, 3].tolist()
+        [1.0, 2.0, 3.0]
+        """
+        R = check_array(R, "R", shape=(Ellipsis, 3, 3))
+        t = check_array(t, "t", shape=(Ellipsis, 3))
         shape = np.broadcast_shapes(R.shape[:-2], t.shape[:-1])
         T = np.zeros((*shape, 4, 4))
         T[..., :3, :3] = R
@@ -56,16 +84,23 @@ class SE3(MatrixLieGroup):
 
     @staticmethod
     def to_rt(T):
-        """``(R (..., 3, 3), t (..., 3))``."""
+        """Rotations ``(..., 3, 3)`` and translations ``(..., 3)`` of poses ``(..., 4, 4)``."""
         T = np.asarray(T, dtype=float)
         return T[..., :3, :3], T[..., :3, 3]
 
+    # ------------------------------------------------------------ group maps
     def inverse(self, a) -> np.ndarray:
+        """Closed-form inverse ``[[R^T, -R^T t], [0, 1]]`` of ``(..., 4, 4)`` poses."""
         R, t = self.to_rt(a)
         Rt = np.swapaxes(R, -1, -2)
-        return self.from_rt(Rt, -(Rt @ t[..., None])[..., 0])
+        out = np.zeros(np.shape(a))
+        out[..., :3, :3] = Rt
+        out[..., :3, 3] = -(Rt @ t[..., None])[..., 0]
+        out[..., 3, 3] = 1.0
+        return out
 
     def hat(self, tangent) -> np.ndarray:
+        """``(..., 6) -> (..., 4, 4)``: ``[[hat(phi), rho], [0, 0]]``."""
         v = np.asarray(tangent, dtype=float)
         out = np.zeros((*v.shape[:-1], 4, 4))
         out[..., :3, :3] = so3_hat(v[..., 3:])
@@ -73,42 +108,126 @@ class SE3(MatrixLieGroup):
         return out
 
     def vee(self, matrix) -> np.ndarray:
+        """``(..., 4, 4) -> (..., 6)``, inverse of :meth:`hat`."""
         m = np.asarray(matrix)
         return np.concatenate([m[..., :3, 3], so3_vee(m[..., :3, :3])], -1)
 
     def expmap(self, tangent) -> np.ndarray:
+        """Closed-form exponential ``(..., 6) -> (..., 4, 4)``."""
         v = np.asarray(tangent, dtype=float)
         phi = v[..., 3:]
         t = (so3_left_jacobian(phi) @ v[..., :3, None])[..., 0]
         return self.from_rt(so3_exp(phi), t)
 
     def logmap(self, point) -> np.ndarray:
+        """Closed-form logarithm ``(..., 4, 4) -> (..., 6)``, rotation angle in ``[0, pi]``."""
         R, t = self.to_rt(point)
         phi = so3_log(R)
         rho = (so3_left_jacobian_inverse(phi) @ t[..., None])[..., 0]
         return np.concatenate([rho, phi], -1)
 
+    # -------------------------------------------------------- paper distances
     def relative_error(self, T1, T2):
-        """``(e_t, e_r)`` of ``T1^-1 T2``: translation norm (metres), rotation angle (radians)."""
-        D = self.compose(self.inverse(T1), T2)
-        R, t = self.to_rt(D)
+        """Translation and rotation error of ``Delta = T1^-1 T2``.
+
+        Parameters
+        ----------
+        T1, T2 : ndarray of shape (..., 4, 4)
+            Broadcast against each other.
+
+        Returns
+        -------
+        e_t : ndarray of shape (...)
+            ``|t_Delta|`` (the units of the translations).
+        e_r : ndarray of shape (...)
+            ``|log(R_Delta)|``, the rotation angle in radians, in ``[0, pi]``.
+
+        Examples
+        --------
+        >>> g = SE3()
+        >>> e_t, e_r = g.relative_error(g.identity(), g.from_rt(so3_exp([0, 0, 0.3]), [3, 4, 0]))
+        >>> print(f"{float(e_t):.3f} {float(e_r):.3f}")
+        5.000 0.300
+        """
+        T1 = self.validate(T1, "T1")
+        T2 = self.validate(T2, "T2")
+        R, t = self.to_rt(self.compose(self.inverse(T1), T2))
         return np.linalg.norm(t, axis=-1), np.linalg.norm(so3_log(R), axis=-1)
 
     def point_set_distance(self, T1, T2, reference_points) -> np.ndarray:
-        """RMS distance between ``reference_points`` ``(P, 3)`` moved by ``T1`` and by ``T2``."""
-        P = check_array(reference_points, "reference_points", shape=(None, 3))
-        R1, t1 = self.to_rt(T1)
-        R2, t2 = self.to_rt(T2)
-        p1 = np.einsum("...ij,pj->...pi", R1, P) + t1[..., None, :]
-        p2 = np.einsum("...ij,pj->...pi", R2, P) + t2[..., None, :]
-        return np.sqrt(np.mean(np.sum((p1 - p2) ** 2, axis=-1), axis=-1))
+        """Root mean square distance between reference points moved by ``T1`` and by ``T2``.
 
+        ``sqrt(mean_p |T1 x_p - T2 x_p|^2)``, evaluated from the first and
+        second moments of the reference points, so the cost does not grow
+        with their number. It is a true metric on poses when the points are
+        not collinear, but depends on where the points are.
+
+        Parameters
+        ----------
+        T1, T2 : ndarray of shape (..., 4, 4)
+            Broadcast against each other.
+        reference_points : ndarray of shape (P, 3)
+
+        Returns
+        -------
+        ndarray of shape (...)
+
+        Examples
+        --------
+        >>> g = SE3()
+        >>> X = np.array([[1.0, 0.0, 0.0], [-1.0, 0.0, 0.0]])
+        >>> flip = g.from_rt(so3_exp([0.0, 0.0, np.pi]), np.zeros(3))
+        >>> print(f"{float(g.point_set_distance(g.identity(), flip, X)):.6f}")
+        2.000000
+        """
+        T1 = self.validate(T1, "T1")
+        T2 = self.validate(T2, "T2")
+        X = check_array(reference_points, "reference_points", shape=(None, 3))
+        if len(X) == 0:
+            raise ValueError("reference_points: need at least one point, got 0")
+        mu = X.mean(axis=0)
+        S = X.T @ X / len(X)
+        D = T1[..., :3, :] - T2[..., :3, :]  # (..., 3, 4): [dR | dt]
+        dR, dt = D[..., :3], D[..., 3]
+        msq = (np.einsum("...ij,jk,...ik->...", dR, S, dR)
+               + 2 * np.einsum("...i,...ij,j->...", dt, dR, mu)
+               + np.einsum("...i,...i->...", dt, dt))
+        return np.sqrt(np.maximum(msq, 0.0))
+
+    # --------------------------------------------------------------- average
     def split_mean(self, points, weights=None, *, max_iter: int = 50,
                    tol: float = 1e-12) -> np.ndarray:
-        """Karcher mean of the rotations on SO(3) and arithmetic mean of the translations."""
+        """Karcher mean of the rotations on SO(3), arithmetic mean of the translations.
+
+        The rotation iterates ``R <- R exp(sum_i w_i log(R^T R_i))`` from the
+        heaviest rotation until the step is shorter than ``tol`` (radians) or
+        ``max_iter`` steps were taken.
+
+        Parameters
+        ----------
+        points : ndarray of shape (N, 4, 4)
+        weights : ndarray of shape (N,), optional
+            Non-negative, normalised to sum to one.
+        max_iter : int
+            Iteration cap.
+        tol : float
+            Stop when the rotation step is shorter than this (radians).
+
+        Returns
+        -------
+        ndarray of shape (4, 4)
+
+        Examples
+        --------
+        >>> g = SE3()
+        >>> pts = g.from_rt(so3_exp([[0, 0, 0.2], [0, 0, -0.2]]), [[0, 0, 0], [2, 0, 0]])
+        >>> (g.split_mean(pts)[:3].round(6) + 0.0).tolist()
+        [[1.0, 0.0, 0.0, 1.0], [0.0, 1.0, 0.0, 0.0], [0.0, 0.0, 1.0, 0.0]]
+        """
         pts = self._check_sample(points)
         w = self._check_weights(weights, pts.shape[0])
         max_iter = check_int(max_iter, "max_iter", minimum=1)
+        tol = check_positive(tol, "tol", allow_zero=True)
         R, t = self.to_rt(pts)
         Rm = R[int(np.argmax(w))]
         for _ in range(max_iter):

@@ -1,8 +1,25 @@
-"""Rotations in 3D: hat, vee, exp, log and the SE(3) left Jacobian (batched functions)."""
+"""Rotations in 3D as plain batched array functions: hat, vee, exp, log, left Jacobian.
+
+These are the building blocks of :class:`~clap_unified.geometry.se3.SE3` (the
+thin class keeps the group bookkeeping, these keep the formulas, as in
+spatialmath). Rotation vectors ``phi`` have shape ``(..., 3)``, rotation
+matrices ``(..., 3, 3)``; every function broadcasts over the leading axes.
+With ``theta = |phi|`` and ``K = hat(phi)``:
+
+* ``exp(phi) = I + sin(theta)/theta K + (1 - cos(theta))/theta^2 K^2`` (Rodrigues);
+* ``V(phi) = I + (1 - cos(theta))/theta^2 K + (theta - sin(theta))/theta^3 K^2``
+  is the left Jacobian of SO(3), the matrix with ``t = V(phi) rho`` in the
+  SE(3) exponential.
+
+The coefficients switch to Taylor series for ``theta < 1e-6`` (their error is
+then below ``1e-24``).
+"""
 
 from __future__ import annotations
 
 import numpy as np
+
+from .._validation import check_array
 
 __all__ = ["so3_hat", "so3_vee", "so3_exp", "so3_log", "so3_left_jacobian",
            "so3_left_jacobian_inverse"]
@@ -11,22 +28,51 @@ _SMALL = 1e-6
 
 
 def so3_hat(phi) -> np.ndarray:
-    """Skew matrices ``(..., 3, 3)`` of vectors ``(..., 3)``."""
-    phi = np.asarray(phi, dtype=float)
+    """Skew-symmetric matrices of vectors.
+
+    Parameters
+    ----------
+    phi : ndarray of shape (..., 3)
+
+    Returns
+    -------
+    ndarray of shape (..., 3, 3)
+        ``hat(phi) @ v == cross(phi, v)``.
+
+    Examples
+    --------
+    >>> so3_hat([1.0, 2.0, 3.0]).tolist()
+    [[0.0, -3.0, 2.0], [3.0, 0.0, -1.0], [-2.0, 1.0, 0.0]]
+    """
+    phi = check_array(phi, "phi", shape=(Ellipsis, 3))
     x, y, z = phi[..., 0], phi[..., 1], phi[..., 2]
     o = np.zeros_like(x)
     return np.stack([np.stack([o, -z, y], -1), np.stack([z, o, -x], -1),
                      np.stack([-y, x, o], -1)], -2)
 
 
-def so3_vee(m) -> np.ndarray:
-    """Vectors ``(..., 3)`` of skew matrices."""
-    m = np.asarray(m)
+def so3_vee(matrix) -> np.ndarray:
+    """Vectors of skew-symmetric matrices (inverse of :func:`so3_hat`).
+
+    Parameters
+    ----------
+    matrix : ndarray of shape (..., 3, 3)
+
+    Returns
+    -------
+    ndarray of shape (..., 3)
+
+    Examples
+    --------
+    >>> so3_vee(so3_hat([1.0, 2.0, 3.0])).tolist()
+    [1.0, 2.0, 3.0]
+    """
+    m = np.asarray(matrix)
     return np.stack([m[..., 2, 1], m[..., 0, 2], m[..., 1, 0]], -1)
 
 
 def _coefficients(theta):
-    """sin(t)/t, (1-cos t)/t^2, (t - sin t)/t^3 with Taylor series near 0."""
+    """``sin(t)/t``, ``(1 - cos t)/t^2``, ``(t - sin t)/t^3`` with Taylor series near 0."""
     t2 = theta**2
     small = theta < _SMALL
     ts = np.where(small, 1.0, theta)
@@ -37,14 +83,23 @@ def _coefficients(theta):
 
 
 def so3_exp(phi) -> np.ndarray:
-    """Rodrigues' formula, ``(..., 3) -> (..., 3, 3)``.
+    """Rotation matrices of rotation vectors (Rodrigues' formula).
+
+    Parameters
+    ----------
+    phi : ndarray of shape (..., 3)
+        Axis times angle (radians).
+
+    Returns
+    -------
+    ndarray of shape (..., 3, 3)
 
     Examples
     --------
-    >>> so3_exp([0.0, 0.0, np.pi / 2]).round(6).tolist()
+    >>> (so3_exp([0.0, 0.0, np.pi / 2]).round(6) + 0.0).tolist()
     [[0.0, -1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0]]
     """
-    phi = np.asarray(phi, dtype=float)
+    phi = check_array(phi, "phi", shape=(Ellipsis, 3))
     theta = np.linalg.norm(phi, axis=-1)
     a, b, _ = _coefficients(theta)
     K = so3_hat(phi)
@@ -52,12 +107,35 @@ def so3_exp(phi) -> np.ndarray:
 
 
 def so3_log(R) -> np.ndarray:
-    """Rotation vectors ``(..., 3)`` of rotation matrices, robust near 0 and pi."""
-    R = np.asarray(R, dtype=float)
-    cos = np.clip((np.trace(R, axis1=-2, axis2=-1) - 1) / 2, -1.0, 1.0)
-    theta = np.arccos(cos)
+    """Rotation vectors of rotation matrices, with the angle in ``[0, pi]``.
+
+    The angle is ``atan2(|v|, (trace R - 1) / 2)`` with ``v = vee(R - R^T) / 2 =
+    sin(theta) axis``, accurate at both ends. Near ``theta = 0`` the vector is
+    ``v theta / sin(theta)`` (Taylor series). Near ``pi`` (``theta > pi - 1e-3``),
+    where ``v`` vanishes, the axis is read from the symmetric part
+    ``(R + R^T)/2 = cos(theta) I + (1 - cos(theta)) axis axis^T`` and its sign
+    from ``v``. At exactly ``pi`` both signs are logarithms; one is returned.
+
+    Parameters
+    ----------
+    R : ndarray of shape (..., 3, 3)
+        Rotation matrices (orthonormality is not checked).
+
+    Returns
+    -------
+    ndarray of shape (..., 3)
+
+    Examples
+    --------
+    >>> phi = np.array([[0.0, 0.0, 1e-9], [0.0, np.pi - 1e-8, 0.0]])
+    >>> [f"{x:.10f}" for x in np.linalg.norm(so3_log(so3_exp(phi)), axis=-1)]
+    ['0.0000000010', '3.1415926436']
+    """
+    R = check_array(R, "R", shape=(Ellipsis, 3, 3))
     v = so3_vee(R - np.swapaxes(R, -1, -2)) / 2  # sin(theta) * axis
-    sin = np.sin(theta)
+    sin = np.linalg.norm(v, axis=-1)
+    cos = (np.trace(R, axis1=-2, axis2=-1) - 1) / 2
+    theta = np.arctan2(sin, cos)
     near_pi = theta > np.pi - 1e-3
     small = theta < _SMALL
     scale = np.where(small, 1 + theta**2 / 6, theta / np.where(small | near_pi, 1.0, sin))
@@ -65,10 +143,9 @@ def so3_log(R) -> np.ndarray:
     if np.any(near_pi):
         Rp = R[near_pi]
         th = theta[near_pi]
-        # symmetric part: (R + R^T)/2 = cos(t) I + (1 - cos(t)) axis axis^T, exact for any t
         sym = (Rp + np.swapaxes(Rp, -1, -2)) / 2
         c = np.cos(th)[:, None, None]
-        B = (sym - c * np.eye(3)) / (1 - c)
+        B = (sym - c * np.eye(3)) / (1 - c)  # axis axis^T
         col = np.argmax(np.diagonal(B, axis1=-2, axis2=-1), axis=-1)
         axis = np.take_along_axis(B, col[:, None, None], axis=-1)[..., 0]
         axis /= np.linalg.norm(axis, axis=-1, keepdims=True)
@@ -79,20 +156,55 @@ def so3_log(R) -> np.ndarray:
 
 
 def so3_left_jacobian(phi) -> np.ndarray:
-    """V(phi) with ``t = V(phi) rho`` in the SE(3) exponential."""
-    phi = np.asarray(phi, dtype=float)
+    """Left Jacobian ``V(phi)`` of SO(3) (the SE(3) translation map).
+
+    Parameters
+    ----------
+    phi : ndarray of shape (..., 3)
+
+    Returns
+    -------
+    ndarray of shape (..., 3, 3)
+        ``V(phi)``, with ``exp([rho, phi]) = [[exp(phi), V(phi) rho], [0, 1]]``.
+
+    Examples
+    --------
+    >>> phi = np.array([0.3, -0.2, 0.5])
+    >>> bool(np.allclose(so3_left_jacobian(phi) @ so3_left_jacobian_inverse(phi), np.eye(3)))
+    True
+    """
+    phi = check_array(phi, "phi", shape=(Ellipsis, 3))
     _, b, c = _coefficients(np.linalg.norm(phi, axis=-1))
     K = so3_hat(phi)
     return np.eye(3) + b[..., None, None] * K + c[..., None, None] * (K @ K)
 
 
 def so3_left_jacobian_inverse(phi) -> np.ndarray:
-    """Inverse of :func:`so3_left_jacobian` (closed form)."""
-    phi = np.asarray(phi, dtype=float)
+    """Inverse of :func:`so3_left_jacobian` in closed form.
+
+    ``V^-1 = I - K/2 + (1 - theta sin(theta) / (2 (1 - cos(theta)))) / theta^2 K^2``,
+    with the series ``1/12 + theta^2/720`` near 0; defined for ``theta < 2 pi``
+    (logarithms have ``theta <= pi``).
+
+    Parameters
+    ----------
+    phi : ndarray of shape (..., 3)
+
+    Returns
+    -------
+    ndarray of shape (..., 3, 3)
+
+    Examples
+    --------
+    >>> (so3_left_jacobian_inverse(np.zeros(3)) + 0.0).tolist()
+    [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]
+    """
+    phi = check_array(phi, "phi", shape=(Ellipsis, 3))
     theta = np.linalg.norm(phi, axis=-1)
     a, b, _ = _coefficients(theta)
     small = theta < _SMALL
     ts = np.where(small, 1.0, theta)
-    d = np.where(small, 1 / 12 + theta**2 / 720, (1 - a / (2 * np.where(small, 1.0, b))) / ts**2)
+    d = np.where(small, 1 / 12 + theta**2 / 720,
+                 (1 - a / (2 * np.where(small, 1.0, b))) / ts**2)
     K = so3_hat(phi)
     return np.eye(3) - 0.5 * K + d[..., None, None] * (K @ K)
