@@ -63,3 +63,10 @@ def test_bad_matches_are_named():
     with pytest.raises(ValueError, match="matches: need at least 4"):
         HomographySpace().check_data(np.zeros((3, 4)))
     assert HomographySpace().refit(np.zeros((10, 4))) is None
+
+
+def test_hypotheses_are_never_singular():
+    hs = generate_hypotheses(HomographySpace(), matches(outliers=0.8), 400, rng=0)
+    H = hs.models
+    ratio = np.abs(np.linalg.det(H)) / np.prod(np.linalg.norm(H, axis=-1), axis=-1)
+    assert len(hs) == 400 and ratio.min() > 1e-10

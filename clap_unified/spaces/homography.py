@@ -14,6 +14,9 @@ from .base import HypothesisSpace
 
 __all__ = ["HomographySpace", "dlt", "normalise_points"]
 
+#: Minimal-sample homographies with |det H| / prod_i |row_i| at or below this are rejected.
+SINGULAR_RATIO = 1e-10
+
 
 def normalise_points(points, weights=None):
     """Hartley normalisation of point sets, batched.
@@ -140,8 +143,12 @@ class HomographySpace(HypothesisSpace):
         good = np.abs(h33) > 1e-12 * np.abs(H).max(axis=(1, 2))
         H = H[good] / h33[good, None, None]
         owner = np.flatnonzero(ok)[good]
-        finite = np.all(np.isfinite(H), axis=(1, 2))
-        return H[finite], owner[finite]
+        # near-singular models (a sample close to degenerate) are no homography:
+        # |det H| against Hadamard's bound, a scale-free ratio in [0, 1]
+        with np.errstate(all="ignore"):
+            ratio = np.abs(np.linalg.det(H)) / np.prod(np.linalg.norm(H, axis=-1), axis=-1)
+        keep = np.all(np.isfinite(H), axis=(1, 2)) & (ratio > SINGULAR_RATIO)
+        return H[keep], owner[keep]
 
     def refit(self, data, weights=None):
         data = np.asarray(data, dtype=float)
