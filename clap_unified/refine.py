@@ -30,7 +30,7 @@ def refit_on_inliers(space, model, data, threshold: float, *, iterations: int = 
     for round_ in range(iterations):
         if np.count_nonzero(inliers) < space.min_samples:
             break
-        new = space.refit(data[inliers])
+        new = space.refit(data[inliers], initial=model)
         if new is None:
             break
         new_inliers = inliers_of(space, new, data, threshold)

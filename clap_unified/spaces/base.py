@@ -102,8 +102,12 @@ class HypothesisSpace(ABC):
         """
 
     @abstractmethod
-    def refit(self, data: np.ndarray, weights=None):
-        """Non-minimal (weighted) least-squares fit; ``None`` when degenerate."""
+    def refit(self, data: np.ndarray, weights=None, initial=None):
+        """Non-minimal (weighted) least-squares fit; ``None`` when degenerate.
+
+        ``initial`` is the current model: spaces whose fit needs an association
+        (landmarks to map features) use it, the others ignore it.
+        """
 
     @abstractmethod
     def residuals(self, models, data: np.ndarray) -> np.ndarray:

@@ -150,7 +150,7 @@ class HomographySpace(HypothesisSpace):
         keep = np.all(np.isfinite(H), axis=(1, 2)) & (ratio > SINGULAR_RATIO)
         return H[keep], owner[keep]
 
-    def refit(self, data, weights=None):
+    def refit(self, data, weights=None, initial=None):
         data = np.asarray(data, dtype=float)
         w = None if weights is None else np.asarray(weights, dtype=float)
         if w is not None:

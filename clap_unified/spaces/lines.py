@@ -73,7 +73,7 @@ class LineSpace(HypothesisSpace):
         offset = np.sum(normal * p[ok], axis=1)
         return Line2D.from_normal_offset(normal, offset), np.flatnonzero(ok)
 
-    def refit(self, data, weights=None):
+    def refit(self, data, weights=None, initial=None):
         data = np.asarray(data, dtype=float)
         w = np.ones(len(data)) if weights is None else np.asarray(weights, dtype=float)
         keep = w > 0

@@ -1,0 +1,181 @@
+"""Hypothesis space of planar robot poses from typed landmark observations.
+
+The original CLAP (RoboCup 2024): a pair of observed field features, matched to
+a type-compatible ordered pair of map landmarks, fixes one SE(2) pose in closed
+form. Every observation pair times every compatible map pair gives the
+candidate set; a pair whose observed separation disagrees with the map
+separation is rejected before any pose is solved.
+
+Data are observations ``(N, 3)`` rows ``(type_id, x, y)`` in the robot frame
+(x forward, y left, metres), ``type_id`` indexing :data:`LANDMARK_TYPES`.
+Models are poses ``T_field_robot`` as SE(2) matrices: a robot-frame point ``p``
+is at ``R p + t`` on the field.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .._validation import check_points, check_positive
+from ..geometry.se2 import SE2
+from ..localization.field import LANDMARK_TYPES, Field
+from .base import HypothesisSpace
+
+__all__ = ["Landmark2DSpace", "observations_array"]
+
+
+def observations_array(observations) -> np.ndarray:
+    """``(N, 3)`` array ``(type_id, x, y)`` from a list of ``{"type", "x", "y"}`` dicts.
+
+    Examples
+    --------
+    >>> observations_array([{"type": "X", "x": 1.0, "y": 2.0}]).tolist()
+    [[2.0, 1.0, 2.0]]
+    """
+    rows = []
+    for i, ob in enumerate(observations):
+        try:
+            kind, x, y = ob["type"], float(ob["x"]), float(ob["y"])
+        except (KeyError, TypeError, ValueError):
+            raise ValueError(f"observations[{i}]: expected {{'type', 'x', 'y'}} with numbers, "
+                             f"got {ob!r}") from None
+        if kind not in LANDMARK_TYPES:
+            raise ValueError(f"observations[{i}]: unknown type {kind!r}; expected one of "
+                             f"{list(LANDMARK_TYPES)}")
+        rows.append([LANDMARK_TYPES.index(kind), x, y])
+    return np.array(rows, dtype=float).reshape(-1, 3)
+
+
+class Landmark2DSpace(HypothesisSpace):
+    """SE(2) poses from pairs of typed landmark observations matched to a field map.
+
+    Parameters
+    ----------
+    field : Field
+        The landmark map.
+    distance_tolerance : float
+        A pair is solved only if ``|observed separation - map separation|``
+        is below this (metres).
+    angle_weight : float
+        lambda of the SE(2) distance, metres per radian.
+
+    Examples
+    --------
+    >>> from clap_unified.localization import load_field
+    >>> space = Landmark2DSpace(load_field("adult"))
+    >>> truth = SE2.from_xytheta(2.0, -1.0, 0.3)
+    >>> marks = space.field.positions[space.field.types == "goal_post"][2:]
+    >>> local = (np.linalg.inv(truth) @ np.c_[marks, np.ones(2)].T).T[:, :2]
+    >>> obs = np.c_[np.full(2, 3.0), local]
+    >>> models, owner = space.solve_minimal(obs, np.array([[0, 1]]))
+    >>> np.round(SE2.to_xytheta(models), 3).tolist()  # both goals, both orders of the posts
+    [[-12.0, -1.0, 0.3], [-2.0, 1.0, -2.842], [2.0, -1.0, 0.3], [12.0, 1.0, -2.842]]
+    """
+
+    min_samples = 2
+    model_shape = (3, 3)
+    name = "pose2d"
+
+    def __init__(self, field: Field, *, distance_tolerance: float = 0.3,
+                 angle_weight: float = 1.0):
+        self.field = field
+        self.distance_tolerance = check_positive(distance_tolerance, "distance_tolerance")
+        self._manifold = SE2(angle_weight=angle_weight)
+        self._type_ids = np.array([LANDMARK_TYPES.index(t) for t in field.types])
+
+    def __repr__(self) -> str:
+        return f"Landmark2DSpace(field={self.field.name!r}, tol={self.distance_tolerance:g})"
+
+    @property
+    def manifold(self) -> SE2:
+        return self._manifold
+
+    def check_data(self, data) -> np.ndarray:
+        obs = check_points(data, "observations", dim=3, min_count=self.min_samples)
+        ids = obs[:, 0]
+        if np.any((ids != np.round(ids)) | (ids < 0) | (ids >= len(LANDMARK_TYPES))):
+            raise ValueError("observations: column 0 must be a type id in "
+                             f"0..{len(LANDMARK_TYPES) - 1}")
+        return obs
+
+    def solve_minimal(self, data, samples):
+        """Every type-compatible ordered map pair for every observation pair, batched."""
+        data = np.asarray(data, dtype=float)
+        ids = data[:, 0].astype(int)
+        maps = self.field.positions
+        # all ordered map pairs (a, b), a != b
+        a, b = np.nonzero(~np.eye(len(maps), dtype=bool))
+        sep_map = np.linalg.norm(maps[b] - maps[a], axis=1)
+        i, j = samples[:, 0], samples[:, 1]
+        sep_obs = np.linalg.norm(data[j, 1:] - data[i, 1:], axis=1)
+        ok = ((ids[i][:, None] == self._type_ids[a][None]) &
+              (ids[j][:, None] == self._type_ids[b][None]) &
+              (np.abs(sep_obs[:, None] - sep_map[None]) <= self.distance_tolerance) &
+              (sep_obs[:, None] > 1e-9))
+        s, k = np.nonzero(ok)
+        p, q = data[i[s], 1:], data[j[s], 1:]
+        m, n = maps[a[k]], maps[b[k]]
+        theta = (np.arctan2(*(n - m)[:, ::-1].T) - np.arctan2(*(q - p)[:, ::-1].T))
+        c, sn = np.cos(theta), np.sin(theta)
+        mid_obs, mid_map = (p + q) / 2, (m + n) / 2
+        t = mid_map - np.stack([c * mid_obs[:, 0] - sn * mid_obs[:, 1],
+                                sn * mid_obs[:, 0] + c * mid_obs[:, 1]], axis=1)
+        return SE2.from_xytheta(t[:, 0], t[:, 1], theta), s
+
+    def _world(self, models, data):
+        T = np.asarray(models, dtype=float).reshape(-1, 3, 3)
+        return np.einsum("hij,nj->hni", T[:, :2, :2], data[:, 1:]) + T[:, None, :2, 2]
+
+    def residuals(self, models, data) -> np.ndarray:
+        """Distance of each observation (moved to the field) to the nearest landmark of its type."""
+        data = np.asarray(data, dtype=float)
+        world = self._world(models, data)  # (H, N, 2)
+        out = np.full(world.shape[:2], np.inf)
+        ids = data[:, 0].astype(int)
+        for t in np.unique(ids):
+            marks = self.field.positions[self._type_ids == t]
+            if len(marks) == 0:
+                continue
+            cols = ids == t
+            d = np.linalg.norm(world[:, cols, None, :] - marks[None, None], axis=-1)
+            out[:, cols] = d.min(axis=-1)
+        return out
+
+    def refit(self, data, weights=None, initial=None):
+        """Weighted least-squares pose (2D Kabsch) to the nearest same-type landmarks.
+
+        The association needs a pose: each observation is moved to the field by
+        ``initial`` and paired with the nearest landmark of its type. Returns
+        None without ``initial``, with fewer than two observations, or when
+        the observations coincide.
+        """
+        data = np.asarray(data, dtype=float)
+        if initial is None or len(data) < 2:
+            return None
+        w = np.ones(len(data)) if weights is None else np.asarray(weights, dtype=float)
+        world = self._world(initial, data)[0]
+        ids = data[:, 0].astype(int)
+        target = np.empty_like(world)
+        for t in np.unique(ids):
+            marks = self.field.positions[self._type_ids == t]
+            if len(marks) == 0:
+                return None
+            cols = ids == t
+            d = np.linalg.norm(world[cols, None] - marks[None], axis=-1)
+            target[cols] = marks[d.argmin(axis=1)]
+        src = data[:, 1:]
+        cs, ct = (w @ src) / w.sum(), (w @ target) / w.sum()
+        S = ((src - cs).T * w) @ (target - ct)
+        if np.linalg.norm(S) <= 1e-12:
+            return None
+        theta = np.arctan2(S[0, 1] - S[1, 0], S[0, 0] + S[1, 1])
+        c, s = np.cos(theta), np.sin(theta)
+        t = ct - np.array([c * cs[0] - s * cs[1], s * cs[0] + c * cs[1]])
+        return SE2.from_xytheta(t[0], t[1], theta)
+
+    def model_to_dict(self, model) -> dict:
+        x, y, theta = SE2.to_xytheta(model)
+        return {"x": float(x), "y": float(y), "theta": float(theta)}
+
+    def default_residual_threshold(self, data) -> float:
+        return 0.3
