@@ -23,7 +23,7 @@ from ..refine import inliers_of, refit_on_inliers
 from ..result import Cluster, ConsensusResult, runner_up_ratio
 from ..spaces.base import HypothesisSet
 from ..spaces.sampling import generate_hypotheses
-from .centres import CENTRES
+from .centres import CENTRES, cluster_centre
 from .density import auto_bandwidth, neighbour_counts
 from .rejection import mad_centre, trimmed_centre
 
@@ -39,8 +39,6 @@ def _robust_centre(manifold, points, rejection, centre, rounds, discard_fraction
                               centre=centre)
     if rejection == "mad":
         return mad_centre(manifold, points, k=mad_k, centre=centre)
-    from .centres import cluster_centre
-
     return cluster_centre(manifold, points, centre), np.ones(len(points), bool)
 
 

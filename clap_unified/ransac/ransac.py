@@ -106,7 +106,7 @@ def ransac(space, data, *, hypotheses: HypothesisSet | None = None, max_trials: 
     g = as_generator(rng)
     n, m = len(data), space.min_samples
 
-    best_score, best_model, best_index = -np.inf, None, -1
+    best_score, best_model, best_index, best_count = -np.inf, None, -1, 0
     drawn = scored = degenerate = 0
     needed = float(max_trials)
     while drawn < min(needed, max_trials):
@@ -121,15 +121,16 @@ def ransac(space, data, *, hypotheses: HypothesisSet | None = None, max_trials: 
             models, owner = space.solve_minimal(data, idx)
             degenerate += k - len(np.unique(owner))
         if len(models):
-            s = score_hypotheses(space.residuals(models, data), t, score)
+            r = space.residuals(models, data)
+            s = score_hypotheses(r, t, score)
             j = int(np.argmax(s))
             if s[j] > best_score:
                 best_score, best_model, best_index = float(s[j]), models[j], scored + j
+                best_count = int(np.count_nonzero(r[j] < t))
             scored += len(models)
         drawn += k
         if confidence is not None and best_model is not None:
-            w = np.count_nonzero(inliers_of(space, best_model, data, t)) / n
-            needed = required_trials(w, m, confidence)
+            needed = required_trials(best_count / n, m, confidence)
 
     diag = {"trials": drawn, "hypotheses_scored": scored, "degenerate_samples": degenerate,
             "residual_threshold": t, "score_kind": score}

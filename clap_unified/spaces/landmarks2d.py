@@ -126,20 +126,39 @@ class Landmark2DSpace(HypothesisSpace):
         T = np.asarray(models, dtype=float).reshape(-1, 3, 3)
         return np.einsum("hij,nj->hni", T[:, :2, :2], data[:, 1:]) + T[:, None, :2, 2]
 
-    def residuals(self, models, data) -> np.ndarray:
-        """Distance of each observation (moved to the field) to the nearest landmark of its type."""
-        data = np.asarray(data, dtype=float)
-        world = self._world(models, data)  # (H, N, 2)
-        out = np.full(world.shape[:2], np.inf)
-        ids = data[:, 0].astype(int)
+    def _nearest_landmarks(self, world, ids):
+        """Nearest map landmark of the same type for observations on the field.
+
+        Parameters
+        ----------
+        world : ndarray of shape (H, N, 2)
+            Observations moved to the field by H poses.
+        ids : ndarray of int, shape (N,)
+
+        Returns
+        -------
+        distance : ndarray of shape (H, N)
+            ``inf`` where the map has no landmark of that type.
+        target : ndarray of shape (H, N, 2)
+            The nearest landmark (NaN where there is none).
+        """
+        distance = np.full(world.shape[:2], np.inf)
+        target = np.full(world.shape, np.nan)
         for t in np.unique(ids):
             marks = self.field.positions[self._type_ids == t]
             if len(marks) == 0:
                 continue
             cols = ids == t
             d = np.linalg.norm(world[:, cols, None, :] - marks[None, None], axis=-1)
-            out[:, cols] = d.min(axis=-1)
-        return out
+            nearest = d.argmin(axis=-1)
+            distance[:, cols] = np.take_along_axis(d, nearest[..., None], axis=-1)[..., 0]
+            target[:, cols] = marks[nearest]
+        return distance, target
+
+    def residuals(self, models, data) -> np.ndarray:
+        """Distance of each observation (moved to the field) to the nearest landmark of its type."""
+        data = np.asarray(data, dtype=float)
+        return self._nearest_landmarks(self._world(models, data), data[:, 0].astype(int))[0]
 
     def refit(self, data, weights=None, initial=None):
         """Weighted least-squares pose (2D Kabsch) to the nearest same-type landmarks.
@@ -153,16 +172,11 @@ class Landmark2DSpace(HypothesisSpace):
         if initial is None or len(data) < 2:
             return None
         w = np.ones(len(data)) if weights is None else np.asarray(weights, dtype=float)
-        world = self._world(initial, data)[0]
-        ids = data[:, 0].astype(int)
-        target = np.empty_like(world)
-        for t in np.unique(ids):
-            marks = self.field.positions[self._type_ids == t]
-            if len(marks) == 0:
-                return None
-            cols = ids == t
-            d = np.linalg.norm(world[cols, None] - marks[None], axis=-1)
-            target[cols] = marks[d.argmin(axis=1)]
+        distance, target = self._nearest_landmarks(self._world(initial, data),
+                                                   data[:, 0].astype(int))
+        if not np.all(np.isfinite(distance)):
+            return None  # some observation type has no landmark in the map
+        target = target[0]
         src = data[:, 1:]
         cs, ct = (w @ src) / w.sum(), (w @ target) / w.sum()
         S = ((src - cs).T * w) @ (target - ct)
