@@ -48,7 +48,7 @@ test: $(STAMP)
 	$(PY) -m pytest -q --nbval book/chapters
 
 bench: $(STAMP)
-	$(PY) bench/bench_lines.py
+	@for f in bench/bench_*.py; do echo "== $$f"; $(PY) $$f || exit 1; done
 
 # Regenerate the lock (exact pins with hashes, no index URLs). Needs network to PyPI.
 lock:

@@ -1,12 +1,18 @@
-"""Command line: ``clap-unified fit line POINTS.csv --method clap``.
+"""Command line: ``clap-unified <command> ...``.
 
-Prints one JSON object on standard output. Bad input gives exit status 2
-and one line on standard error naming the problem.
+Every command prints one JSON object on standard output and exits with
+status 0 on success, 1 when the estimate failed (the JSON says why) and 2
+for bad input (one line on standard error naming the problem).
+
+Commands live next to the code they drive; each module in :data:`COMMANDS`
+provides ``register(subparsers)``, which adds its parser and sets
+``run=callable(args) -> dict`` as a default.
 """
 
 from __future__ import annotations
 
 import argparse
+import importlib
 import json
 import sys
 import time
@@ -14,7 +20,12 @@ import time
 from .compare import fit_line
 from .io import read_points_csv
 
-__all__ = ["main"]
+__all__ = ["main", "COMMANDS"]
+
+#: Modules that add commands (each has ``register(subparsers)``).
+COMMANDS = [
+    "clap_unified.cli",
+]
 
 
 class _Parser(argparse.ArgumentParser):
@@ -22,10 +33,8 @@ class _Parser(argparse.ArgumentParser):
         self.exit(2, f"{self.prog}: error: {message}\n")
 
 
-def _parser() -> argparse.ArgumentParser:
-    p = _Parser(prog="clap-unified",
-                description="Robust fitting by consensus: Hough, RANSAC and CLAP.")
-    sub = p.add_subparsers(dest="command", required=True, parser_class=_Parser)
+def register(sub) -> None:
+    """Add ``fit line``."""
     fit = sub.add_parser("fit", help="fit a model to data")
     kinds = fit.add_subparsers(dest="kind", required=True, parser_class=_Parser)
     line = kinds.add_parser("line", help="fit a 2D line to POINTS.csv (rows x,y)")
@@ -36,6 +45,15 @@ def _parser() -> argparse.ArgumentParser:
                       help="inlier distance in data units (default 2%% of the data radius)")
     line.add_argument("--hypotheses", type=int, default=1000,
                       help="hypotheses (CLAP) or trials (RANSAC); default 1000")
+    line.set_defaults(run=_fit_line)
+
+
+def _parser() -> argparse.ArgumentParser:
+    p = _Parser(prog="clap-unified",
+                description="Robust fitting by consensus: Hough, RANSAC and CLAP.")
+    sub = p.add_subparsers(dest="command", required=True, parser_class=_Parser)
+    for name in COMMANDS:
+        importlib.import_module(name).register(sub)
     return p
 
 
@@ -63,13 +81,12 @@ def main(argv=None) -> int:
     """Entry point of the ``clap-unified`` command."""
     args = _parser().parse_args(argv)
     try:
-        if args.command == "fit" and args.kind == "line":
-            out = _fit_line(args)
-    except ValueError as exc:
+        out = args.run(args)
+    except (ValueError, OSError) as exc:
         print(f"clap-unified: error: {exc}", file=sys.stderr)
         return 2
     print(json.dumps(out))
-    return 0 if out["success"] else 1
+    return 0 if out.get("success", True) else 1
 
 
 if __name__ == "__main__":
