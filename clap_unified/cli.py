@@ -25,6 +25,7 @@ __all__ = ["main", "COMMANDS"]
 #: Modules that add commands (each has ``register(subparsers)``).
 COMMANDS = [
     "clap_unified.cli",
+    "clap_unified.localization.cli",
 ]
 
 

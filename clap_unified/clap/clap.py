@@ -33,10 +33,11 @@ __all__ = ["clap"]
 DENSE_LIMIT = 4000
 
 
-def _robust_centre(manifold, points, rejection, centre, rounds, discard_fraction, mad_k):
+def _robust_centre(manifold, points, rejection, centre, rounds, discard_fraction, mad_k,
+                   distances=None):
     if rejection == "trim":
         return trimmed_centre(manifold, points, rounds=rounds, discard_fraction=discard_fraction,
-                              centre=centre)
+                              centre=centre, distances=distances)
     if rejection == "mad":
         return mad_centre(manifold, points, k=mad_k, centre=centre)
     return cluster_centre(manifold, points, centre), np.ones(len(points), bool)
@@ -146,7 +147,8 @@ def clap(space, data, *, hypotheses: HypothesisSet | None = None, n_hypotheses: 
         if len(near) < min_support:
             return fail(f"only {len(near)} hypotheses within radius {radius:g} of initial_guess "
                         f"(min_support={min_support})")
-        c, keep = _robust_centre(manifold, models[near], **robust)
+        sub = manifold.pairwise_distance(models[near]) if centre == "medoid" else None
+        c, keep = _robust_centre(manifold, models[near], distances=sub, **robust)
         clusters.append(_cluster(manifold, c, models, near[keep], support=len(near)))
     else:
         # One distance matrix when it fits in memory (~130 MB at 4000 hypotheses),
@@ -170,7 +172,8 @@ def clap(space, data, *, hypotheses: HypothesisSet | None = None, n_hypotheses: 
             available &= d_seed > suppress * bw
             if len(near) < min_support:
                 continue
-            c, keep = _robust_centre(manifold, models[near], **robust)
+            sub = dist[np.ix_(near, near)] if dist is not None else None
+            c, keep = _robust_centre(manifold, models[near], distances=sub, **robust)
             # suppress around the centre too, so the rest of a wide cluster cannot
             # seed a second "possibility" that is the same answer
             available &= manifold.distance(c, models) > suppress * bw

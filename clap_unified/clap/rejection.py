@@ -15,7 +15,7 @@ __all__ = ["trimmed_centre", "mad_centre"]
 
 
 def trimmed_centre(manifold, points, *, rounds: int = 5, discard_fraction: float = 0.2,
-                   centre: str = "medoid", min_members: int = 1):
+                   centre: str = "medoid", min_members: int = 1, distances=None):
     """Centre by iterative trimming.
 
     Each round computes the centre of the current members, then keeps the
@@ -40,6 +40,8 @@ def trimmed_centre(manifold, points, *, rounds: int = 5, discard_fraction: float
     rounds = check_int(rounds, "rounds", minimum=0)
     frac = check_fraction(discard_fraction, "discard_fraction")
     members = np.ones(len(pts), bool)
+    if centre == "medoid" and distances is not None:
+        return _trimmed_medoid(pts, np.asarray(distances, dtype=float), rounds, frac, min_members)
     c = cluster_centre(manifold, pts, centre)
     for _ in range(rounds):
         idx = np.flatnonzero(members)
@@ -51,6 +53,23 @@ def trimmed_centre(manifold, points, *, rounds: int = 5, discard_fraction: float
         members[idx[np.argsort(d, kind="stable")[:keep]]] = True
         c = cluster_centre(manifold, pts[members], centre)
     return c, members
+
+
+def _trimmed_medoid(pts, dist, rounds, frac, min_members):
+    if dist.shape != (len(pts), len(pts)):
+        raise ValueError(f"distances: expected shape ({len(pts)}, {len(pts)}), got {dist.shape}")
+    idx = np.arange(len(pts))
+    best = int(np.argmin(dist @ np.full(len(pts), 1.0 / len(pts))))
+    for _ in range(rounds):
+        keep = max(min_members, int(np.ceil(len(idx) * (1.0 - frac))))
+        if keep >= len(idx):
+            break
+        idx = np.sort(idx[np.argsort(dist[best, idx], kind="stable")[:keep]])
+        sub = dist[np.ix_(idx, idx)]
+        best = int(idx[np.argmin(sub @ np.full(len(idx), 1.0 / len(idx)))])
+    members = np.zeros(len(pts), bool)
+    members[idx] = True
+    return pts[best], members
 
 
 def mad_centre(manifold, points, *, k: float = 3.0, centre: str = "medoid", max_iter: int = 10):

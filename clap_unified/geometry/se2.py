@@ -11,12 +11,14 @@ __all__ = ["SE2"]
 
 
 def _coefficients(theta):
-    """``sin(t)/t`` and ``(1 - cos t)/t`` with Taylor series near 0."""
-    small = np.abs(theta) < 1e-6
-    ts = np.where(small, 1.0, theta)
-    a = np.where(small, 1 - theta**2 / 6, np.sin(ts) / ts)
-    b = np.where(small, theta / 2 - theta**3 / 24, (1 - np.cos(ts)) / ts)
-    return a, b
+    """``sin(t)/t`` and ``(1 - cos t)/t``, branch-free and exact near 0.
+
+    ``(1 - cos t)/t = sin(t/2) * sinc(t/2)`` (unnormalised sinc), and
+    ``numpy.sinc`` handles ``t = 0``.
+    """
+    theta = np.asarray(theta, dtype=float)
+    half = np.sin(theta / 2)
+    return np.sinc(theta / np.pi), half * np.sinc(theta / (2 * np.pi))
 
 
 class SE2(MatrixLieGroup):
@@ -141,14 +143,33 @@ class SE2(MatrixLieGroup):
         y = b * v[..., 0] + a * v[..., 1]
         return self.from_xytheta(x, y, theta)
 
+    def log(self, point, base_point) -> np.ndarray:
+        """``logmap(base^-1 point)`` from the matrix entries, without forming the product.
+
+        The relative heading is ``atan2`` of the sine and cosine differences
+        and the relative translation is ``R_base^T (t - t_base)``: a few
+        elementwise operations, the hot path of CLAP's pairwise distances.
+        """
+        a = np.asarray(base_point, dtype=float)
+        b = np.asarray(point, dtype=float)
+        ca, sa = a[..., 0, 0], a[..., 1, 0]
+        cb, sb = b[..., 0, 0], b[..., 1, 0]
+        theta = np.arctan2(ca * sb - sa * cb, ca * cb + sa * sb)
+        dx, dy = b[..., 0, 2] - a[..., 0, 2], b[..., 1, 2] - a[..., 1, 2]
+        tx, ty = ca * dx + sa * dy, -sa * dx + ca * dy
+        return self._log_from(tx, ty, theta)
+
+    @staticmethod
+    def _log_from(tx, ty, theta):
+        a, b = _coefficients(theta)
+        det = a**2 + b**2  # V^-1 = [[a, b], [-b, a]] / det; det >= 4 / pi^2 for |theta| <= pi
+        return np.stack([(a * tx + b * ty) / det, (-b * tx + a * ty) / det, theta], -1)
+
     def logmap(self, point) -> np.ndarray:
         """Closed-form logarithm ``(..., 3, 3) -> (..., 3)``, ``theta`` in ``(-pi, pi]``."""
         T = np.asarray(point, dtype=float)
         theta = np.arctan2(T[..., 1, 0], T[..., 0, 0])
-        a, b = _coefficients(theta)
-        det = a**2 + b**2  # V^-1 = [[a, b], [-b, a]] / det; det >= 4 / pi^2 for |theta| <= pi
-        tx, ty = T[..., 0, 2], T[..., 1, 2]
-        return np.stack([(a * tx + b * ty) / det, (-b * tx + a * ty) / det, theta], -1)
+        return self._log_from(T[..., 0, 2], T[..., 1, 2], theta)
 
     # --------------------------------------------------------------- average
     def split_mean(self, points, weights=None) -> np.ndarray:

@@ -23,8 +23,25 @@ from .peaks import sparse_peaks
 __all__ = ["bin_hypotheses", "randomized_hough"]
 
 
-def bin_hypotheses(manifold, models, cell_size, base_point=None):
+def bin_hypotheses(manifold, models, cell_size, base_point=None, *, coordinates=None,
+                   periods=None):
     """Cells of hypotheses on a grid in the (weighted) log chart at ``base_point``.
+
+    Parameters
+    ----------
+    manifold : Manifold
+    models : ndarray of shape (H, *point_shape)
+    cell_size : float or array_like of shape (d,)
+        Cell edge per coordinate.
+    base_point : ndarray, optional
+        Where the log chart is taken (ignored with ``coordinates``).
+    coordinates : callable, optional
+        ``models -> (H, d)`` coordinates to bin instead of the log chart,
+        e.g. ``SE2.to_xytheta`` for an ``(x, y, theta)`` grid.
+    periods : sequence of float or None, optional
+        Period of each coordinate (``None``: not periodic). A periodic
+        coordinate's cells wrap around, so the period must be a whole number
+        of cells.
 
     Returns
     -------
@@ -34,18 +51,32 @@ def bin_hypotheses(manifold, models, cell_size, base_point=None):
     cell_of : ndarray of int, shape (H,)
         Index into ``cells`` of every hypothesis.
     """
-    base = manifold.reference_point() if base_point is None else base_point
-    coords = manifold.log(models, base) * manifold.tangent_weights
-    if np.iscomplexobj(coords):
-        coords = coords.real
+    if coordinates is None:
+        base = manifold.reference_point() if base_point is None else base_point
+        coords = manifold.log(models, base) * manifold.tangent_weights
+        if np.iscomplexobj(coords):
+            coords = coords.real
+    else:
+        coords = np.asarray(coordinates(models), dtype=float).reshape(len(models), -1)
+    cell_size = np.broadcast_to(np.asarray(cell_size, dtype=float), coords.shape[1:])
     keys = np.floor(coords / cell_size).astype(np.int64)
+    if periods is not None:
+        for k, period in enumerate(periods):
+            if period is None:
+                continue
+            n_cells = period / cell_size[k]
+            if abs(n_cells - round(n_cells)) > 1e-9 * n_cells:
+                raise ValueError(f"cell_size: {cell_size[k]:g} does not divide the period "
+                                 f"{period:g} of coordinate {k}")
+            keys[:, k] %= int(round(n_cells))
     cells, cell_of, counts = np.unique(keys, axis=0, return_inverse=True, return_counts=True)
     return cells, counts, cell_of.reshape(-1)
 
 
 def randomized_hough(space, data, *, hypotheses: HypothesisSet | None = None,
-                     n_hypotheses: int = 1000, cell_size: float, base_point=None,
-                     recentre: bool = True, num_peaks: int = 5, min_distance: int = 1,
+                     n_hypotheses: int = 1000, cell_size, base_point=None,
+                     coordinates=None, periods=None, recentre: bool = True,
+                     num_peaks: int = 5, min_distance: int = 1,
                      residual_threshold: float | None = None, refit: bool = True,
                      rng=None) -> ConsensusResult:
     """Vote hypotheses into grid cells and return the fullest cells.
@@ -56,14 +87,20 @@ def randomized_hough(space, data, *, hypotheses: HypothesisSet | None = None,
     data : array_like
     hypotheses : HypothesisSet, optional
         Bin these; otherwise ``n_hypotheses`` are generated.
-    cell_size : float
+    cell_size : float or array_like of shape (d,)
         Cell edge in the manifold's weighted tangent coordinates (the same
-        units as its distance).
+        units as its distance), or per coordinate.
     base_point : ndarray, optional
         Where the chart is taken; default the manifold's reference point.
+    coordinates : callable, optional
+        Bin ``coordinates(models)`` (shape ``(H, d)``) instead of the log
+        chart, e.g. ``SE2.to_xytheta`` for an ``(x, y, theta)`` grid.
+    periods : sequence of float or None, optional
+        Periods of the ``coordinates`` (see :func:`bin_hypotheses`).
     recentre : bool
         Bin a second time in the chart at the first peak, so the peak does not
-        sit on a chart seam or far from the base where the chart distorts.
+        sit on a chart seam or far from the base where the chart distorts
+        (log chart only).
     num_peaks, min_distance : int
         Peaks to report and their separation in cells.
     residual_threshold : float, optional
@@ -77,7 +114,11 @@ def randomized_hough(space, data, *, hypotheses: HypothesisSet | None = None,
     """
     t0 = time.perf_counter()
     data = space.check_data(data)
-    cell = check_positive(cell_size, "cell_size")
+    cell = np.asarray(cell_size, dtype=float)
+    if cell.ndim > 1 or not np.all(np.isfinite(cell)) or np.any(cell <= 0):
+        raise ValueError(f"cell_size: expected a positive number or a 1D array of them, "
+                         f"got {cell_size!r}")
+    cell = float(cell) if cell.ndim == 0 else cell
     num_peaks = check_int(num_peaks, "num_peaks", minimum=1)
     t = (space.default_residual_threshold(data) if residual_threshold is None
          else check_positive(residual_threshold, "residual_threshold"))
@@ -87,24 +128,26 @@ def randomized_hough(space, data, *, hypotheses: HypothesisSet | None = None,
     manifold = space.manifold
     n, h = len(data), len(models)
     diag = {"hypotheses": h, "cell_size": cell, "residual_threshold": t}
+    half_cell = float(np.max(cell)) / 2
     if h == 0:
         diag["seconds"] = time.perf_counter() - t0
         return ConsensusResult.failure("randomized_hough", "no hypotheses", n, h, space, **diag)
 
     def vote(base):
-        cells, counts, cell_of = bin_hypotheses(manifold, models, cell, base)
+        cells, counts, cell_of = bin_hypotheses(manifold, models, cell, base,
+                                                coordinates=coordinates, periods=periods)
         return cells, counts, cell_of, sparse_peaks(cells, counts, min_distance=min_distance,
                                                     num_peaks=num_peaks)
 
     cells, counts, cell_of, peaks = vote(base_point)
-    if recentre:
+    if recentre and coordinates is None:
         first = np.flatnonzero(cell_of == peaks[0])
         cells, counts, cell_of, peaks = vote(manifold.mean(models[first], max_iter=20))
     clusters = []
     for p in peaks:
         members = np.flatnonzero(cell_of == p)
         centre = manifold.mean(models[members], max_iter=20)
-        clusters.append(Cluster(centre, int(counts[p]), cell / 2, members))
+        clusters.append(Cluster(centre, int(counts[p]), half_cell, members))
     diag["occupied_cells"] = len(cells)
     diag["runner_up_ratio"] = runner_up_ratio(clusters)
     model = clusters[0].model

@@ -58,6 +58,14 @@ class Landmark2DSpace(HypothesisSpace):
         is below this (metres).
     angle_weight : float
         lambda of the SE(2) distance, metres per radian.
+    range_noise : (float, float) or None
+        ``(sigma0, growth)`` of the detection noise ``sigma(r) = sigma0 +
+        growth * r**2`` (the simulator's :class:`~clap_unified.localization.Camera`
+        default). The refit weighs each observation by ``1 / sigma(r)**2``;
+        ``None`` weighs them equally.
+    on_field : bool
+        Reject candidate poses outside the field and its border (the robot
+        stands on the carpet); needs ``field.dimensions``.
 
     Examples
     --------
@@ -69,7 +77,7 @@ class Landmark2DSpace(HypothesisSpace):
     >>> obs = np.c_[np.full(2, 3.0), local]
     >>> models, owner = space.solve_minimal(obs, np.array([[0, 1]]))
     >>> np.round(SE2.to_xytheta(models), 3).tolist()  # both goals, both orders of the posts
-    [[-12.0, -1.0, 0.3], [-2.0, 1.0, -2.842], [2.0, -1.0, 0.3], [12.0, 1.0, -2.842]]
+    [[-2.0, 1.0, -2.842], [2.0, -1.0, 0.3]]
     """
 
     min_samples = 2
@@ -77,8 +85,21 @@ class Landmark2DSpace(HypothesisSpace):
     name = "pose2d"
 
     def __init__(self, field: Field, *, distance_tolerance: float = 0.3,
-                 angle_weight: float = 1.0):
+                 angle_weight: float = 1.0, range_noise=(0.01, 0.004), on_field: bool = True):
         self.field = field
+        if range_noise is not None:
+            range_noise = (check_positive(range_noise[0], "range_noise"),
+                           check_positive(range_noise[1], "range_noise", allow_zero=True))
+        self.range_noise = range_noise
+        self.bounds = None
+        if on_field:
+            dims = field.dimensions
+            try:
+                border = dims.get("border", 0.0)
+                self.bounds = (dims["length"] / 2 + border, dims["width"] / 2 + border)
+            except KeyError:
+                raise ValueError("on_field: the field has no length/width dimensions; "
+                                 "pass on_field=False") from None
         self.distance_tolerance = check_positive(distance_tolerance, "distance_tolerance")
         self._manifold = SE2(angle_weight=angle_weight)
         self._type_ids = np.array([LANDMARK_TYPES.index(t) for t in field.types])
@@ -120,6 +141,9 @@ class Landmark2DSpace(HypothesisSpace):
         mid_obs, mid_map = (p + q) / 2, (m + n) / 2
         t = mid_map - np.stack([c * mid_obs[:, 0] - sn * mid_obs[:, 1],
                                 sn * mid_obs[:, 0] + c * mid_obs[:, 1]], axis=1)
+        if self.bounds is not None:
+            inside = (np.abs(t[:, 0]) <= self.bounds[0]) & (np.abs(t[:, 1]) <= self.bounds[1])
+            t, theta, s = t[inside], theta[inside], s[inside]
         return SE2.from_xytheta(t[:, 0], t[:, 1], theta), s
 
     def _world(self, models, data):
@@ -163,6 +187,9 @@ class Landmark2DSpace(HypothesisSpace):
     def refit(self, data, weights=None, initial=None):
         """Weighted least-squares pose (2D Kabsch) to the nearest same-type landmarks.
 
+        Weights multiply the range-noise weights ``1 / sigma(r)**2`` (see
+        ``range_noise``).
+
         The association needs a pose: each observation is moved to the field by
         ``initial`` and paired with the nearest landmark of its type. Returns
         None without ``initial``, with fewer than two observations, or when
@@ -172,6 +199,9 @@ class Landmark2DSpace(HypothesisSpace):
         if initial is None or len(data) < 2:
             return None
         w = np.ones(len(data)) if weights is None else np.asarray(weights, dtype=float)
+        if self.range_noise is not None:
+            r2 = np.einsum("ij,ij->i", data[:, 1:], data[:, 1:])
+            w = w / (self.range_noise[0] + self.range_noise[1] * r2) ** 2
         distance, target = self._nearest_landmarks(self._world(initial, data),
                                                    data[:, 0].astype(int))
         if not np.all(np.isfinite(distance)):

@@ -1,0 +1,261 @@
+"""Simulated landmark detections of a robot on a RoboCup field.
+
+A robot at pose ``T_field_robot`` (SE(2)) sees, through a camera with a
+horizontal field of view and a maximum range, the map landmarks in front of
+it. Each visible landmark is detected with probability ``1 - miss_rate`` and
+reported in the robot frame (x forward, y left) with noise that grows with
+range: stereo depth error grows roughly with the square of the distance, so
+the range noise is ``sigma_range + range_growth * r**2`` and the bearing
+noise is constant. False detections are then added so that a fraction
+``false_positive_rate`` of all detections is false. Three kinds exist:
+
+* ``"random"``: a random type at a random place in the field of view;
+* ``"wrong_type"``: a visible landmark reported with another type;
+* ``"neighbour"``: a landmark of a neighbouring field (the same layout,
+  shifted beside this one), seen across the border.
+
+Everything is seeded.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from dataclasses import field as dataclass_field
+
+import numpy as np
+
+from .._validation import as_generator, check_fraction, check_positive
+from ..geometry.se2 import SE2
+from .field import LANDMARK_TYPES, Field
+
+__all__ = ["Camera", "Observations", "simulate_observations", "visible_landmarks",
+           "FALSE_POSITIVE_KINDS"]
+
+FALSE_POSITIVE_KINDS = ("random", "wrong_type", "neighbour")
+
+
+@dataclass(frozen=True)
+class Camera:
+    """What the robot sees and how well.
+
+    Parameters
+    ----------
+    fov : float
+        Horizontal field of view, radians (default 90 degrees).
+    max_range, min_range : float
+        Landmarks outside ``[min_range, max_range]`` metres are not seen.
+    sigma_range : float
+        Range noise at zero distance, metres.
+    range_growth : float
+        Range noise growth, metres per metre squared: ``sigma(r) = sigma_range
+        + range_growth * r**2``.
+    sigma_bearing : float
+        Bearing noise, radians.
+    """
+
+    fov: float = np.radians(90.0)
+    max_range: float = 6.0
+    min_range: float = 0.3
+    sigma_range: float = 0.01
+    range_growth: float = 0.004
+    sigma_bearing: float = np.radians(0.5)
+
+    def __post_init__(self):
+        check_positive(self.fov, "fov")
+        if self.fov > 2 * np.pi:
+            raise ValueError(f"fov: must be at most 2 pi radians, got {self.fov}")
+        check_positive(self.max_range, "max_range")
+        check_positive(self.min_range, "min_range", allow_zero=True)
+        if self.min_range >= self.max_range:
+            raise ValueError("min_range: must be below max_range")
+        for name in ("sigma_range", "range_growth", "sigma_bearing"):
+            check_positive(getattr(self, name), name, allow_zero=True)
+
+    def range_sigma(self, r):
+        """Standard deviation of the range at distance ``r`` (metres)."""
+        return self.sigma_range + self.range_growth * np.asarray(r, dtype=float) ** 2
+
+    def sees(self, local) -> np.ndarray:
+        """Which robot-frame points ``(N, 2)`` are in the field of view and range."""
+        local = np.asarray(local, dtype=float).reshape(-1, 2)
+        r = np.hypot(local[:, 0], local[:, 1])
+        bearing = np.arctan2(local[:, 1], local[:, 0])
+        return (r >= self.min_range) & (r <= self.max_range) & (np.abs(bearing) <= self.fov / 2)
+
+
+@dataclass
+class Observations:
+    """Detections in the robot frame, with what the simulator knows about them.
+
+    Attributes
+    ----------
+    data : ndarray of shape (N, 3)
+        Rows ``(type_id, x, y)``: the input of :class:`~clap_unified.spaces.Landmark2DSpace`.
+    landmark : ndarray of int, shape (N,)
+        Index of the map landmark behind each detection, -1 for a false one.
+    kind : ndarray of str, shape (N,)
+        ``"true"`` or the false-positive kind.
+    """
+
+    data: np.ndarray
+    landmark: np.ndarray
+    kind: np.ndarray = dataclass_field(default=None)
+
+    def __post_init__(self):
+        if self.kind is None:
+            self.kind = np.where(self.landmark >= 0, "true", "random")
+
+    def __len__(self) -> int:
+        return len(self.data)
+
+    @property
+    def is_false(self) -> np.ndarray:
+        return self.landmark < 0
+
+    @property
+    def false_positive_rate(self) -> float:
+        return float(self.is_false.mean()) if len(self) else 0.0
+
+    def to_dicts(self) -> list[dict]:
+        """The JSON form read by ``clap-unified localize2d``."""
+        return [{"type": LANDMARK_TYPES[int(t)], "x": float(x), "y": float(y)}
+                for t, x, y in self.data]
+
+
+def visible_landmarks(field: Field, pose, camera: Camera | None = None) -> np.ndarray:
+    """Indices of the map landmarks the camera sees from ``pose``.
+
+    Examples
+    --------
+    >>> from clap_unified.localization import load_field
+    >>> f = load_field("adult")
+    >>> idx = visible_landmarks(f, SE2.from_xytheta(4.0, 0.0, 0.0))  # facing the goal
+    >>> sorted(set(f.types[idx].tolist()))
+    ['L', 'T', 'goal_post', 'penalty_mark']
+    """
+    camera = Camera() if camera is None else camera
+    local = _to_robot(field.positions, pose)
+    return np.flatnonzero(camera.sees(local))
+
+
+def _to_robot(points, pose):
+    T = np.asarray(pose, dtype=float)
+    R, t = T[:2, :2], T[:2, 2]
+    return (np.asarray(points, dtype=float) - t) @ R
+
+
+def _noisy(local, camera, rng):
+    r = np.hypot(local[:, 0], local[:, 1])
+    b = np.arctan2(local[:, 1], local[:, 0])
+    r = np.maximum(r + rng.normal(size=len(r)) * camera.range_sigma(r), 0.0)
+    b = b + rng.normal(size=len(b)) * camera.sigma_bearing
+    return np.c_[r * np.cos(b), r * np.sin(b)]
+
+
+def _random_in_view(n, camera, rng):
+    r = np.sqrt(rng.uniform(camera.min_range**2, camera.max_range**2, n))
+    b = rng.uniform(-camera.fov / 2, camera.fov / 2, n)
+    return np.c_[r * np.cos(b), r * np.sin(b)]
+
+
+def simulate_observations(field: Field, pose, *, camera: Camera | None = None,
+                          miss_rate: float = 0.1, false_positive_rate: float = 0.0,
+                          false_kinds=FALSE_POSITIVE_KINDS, rng=None) -> Observations:
+    """Detections a robot at ``pose`` makes of ``field``'s landmarks.
+
+    Parameters
+    ----------
+    field : Field
+    pose : ndarray of shape (3, 3)
+        ``T_field_robot``.
+    camera : Camera, optional
+    miss_rate : float in [0, 1]
+        Probability that a visible landmark is not detected.
+    false_positive_rate : float in [0, 1)
+        Fraction of the returned detections that are false:
+        ``round(n_true * rate / (1 - rate))`` are added (at least one when the
+        rate is positive and nothing true is seen).
+    false_kinds : sequence of {"random", "wrong_type", "neighbour"}
+        Kinds of false detections, drawn uniformly.
+    rng : None, int or numpy.random.Generator
+
+    Returns
+    -------
+    Observations
+        Detections in a random order.
+
+    Examples
+    --------
+    >>> from clap_unified.localization import load_field
+    >>> f = load_field("adult")
+    >>> obs = simulate_observations(f, SE2.from_xytheta(3.0, 1.0, 0.2),
+    ...                             false_positive_rate=0.4, rng=1)
+    >>> len(obs), int(obs.is_false.sum())
+    (12, 5)
+    >>> sorted(set(obs.kind.tolist()))
+    ['random', 'true', 'wrong_type']
+    """
+    camera = Camera() if camera is None else camera
+    pose = SE2().validate(pose, "pose")
+    miss_rate = check_fraction(miss_rate, "miss_rate")
+    fp = check_fraction(false_positive_rate, "false_positive_rate", high=0.99)
+    kinds = tuple(false_kinds)
+    bad = set(kinds) - set(FALSE_POSITIVE_KINDS)
+    if not kinds or bad:
+        raise ValueError(f"false_kinds: expected a non-empty subset of {FALSE_POSITIVE_KINDS}, "
+                         f"got {false_kinds!r}")
+    rng = as_generator(rng)
+    type_id = np.array([LANDMARK_TYPES.index(t) for t in field.types])
+
+    seen = visible_landmarks(field, pose, camera)
+    seen = seen[rng.random(len(seen)) >= miss_rate]
+    local = _noisy(_to_robot(field.positions[seen], pose), camera, rng)
+    rows = [np.c_[type_id[seen], local]]
+    landmark = [seen]
+    kind = [np.full(len(seen), "true", dtype=object)]
+
+    n_false = int(round(len(seen) * fp / (1 - fp))) if fp > 0 else 0
+    if fp > 0 and len(seen) == 0:
+        n_false = 1
+    if n_false:
+        chosen = rng.choice(len(kinds), size=n_false)
+        for k, name in enumerate(kinds):
+            m = int(np.count_nonzero(chosen == k))
+            if m == 0:
+                continue
+            f_rows, f_kind = _false(name, m, field, pose, camera, type_id, rng)
+            rows.append(f_rows)
+            landmark.append(np.full(len(f_rows), -1))
+            kind.append(f_kind)
+    data = np.concatenate(rows).reshape(-1, 3)
+    order = rng.permutation(len(data))
+    return Observations(data[order], np.concatenate(landmark)[order].astype(int),
+                        np.concatenate(kind)[order].astype(str))
+
+
+def _false(name, m, field, pose, camera, type_id, rng):
+    """``m`` false detections of one kind (falls back to ``random`` when impossible)."""
+    n_types = len(LANDMARK_TYPES)
+    if name == "wrong_type":
+        seen = visible_landmarks(field, pose, camera)
+        if len(seen):
+            pick = seen[rng.integers(0, len(seen), m)]
+            shift = rng.integers(1, n_types, m)  # any other type
+            wrong = (type_id[pick] + shift) % n_types
+            local = _noisy(_to_robot(field.positions[pick], pose), camera, rng)
+            return np.c_[wrong, local], np.full(m, name, dtype=object)
+    elif name == "neighbour":
+        dims = field.dimensions
+        width = dims.get("width", np.ptp(field.positions[:, 1]))
+        border = dims.get("border", 1.0)
+        offset = width + 2 * border  # the next field, touchline to touchline
+        cands = np.concatenate([field.positions + [0.0, s * offset] for s in (-1, 1)])
+        ctype = np.concatenate([type_id, type_id])
+        local_all = _to_robot(cands, pose)
+        vis = np.flatnonzero(camera.sees(local_all))
+        if len(vis):
+            pick = vis[rng.integers(0, len(vis), m)]
+            local = _noisy(local_all[pick], camera, rng)
+            return np.c_[ctype[pick], local], np.full(m, name, dtype=object)
+    local = _random_in_view(m, camera, rng)
+    return np.c_[rng.integers(0, n_types, m), local], np.full(m, "random", dtype=object)
