@@ -11,7 +11,7 @@ import numpy as np
 from .._validation import check_fraction, check_int, check_positive
 from .centres import cluster_centre
 
-__all__ = ["trimmed_centre", "mad_centre"]
+__all__ = ["trimmed_centre", "trimmed_medoid_index", "mad_centre"]
 
 
 def trimmed_centre(manifold, points, *, rounds: int = 5, discard_fraction: float = 0.2,
@@ -56,20 +56,49 @@ def trimmed_centre(manifold, points, *, rounds: int = 5, discard_fraction: float
 
 
 def _trimmed_medoid(pts, dist, rounds, frac, min_members):
-    if dist.shape != (len(pts), len(pts)):
-        raise ValueError(f"distances: expected shape ({len(pts)}, {len(pts)}), got {dist.shape}")
-    idx = np.arange(len(pts))
-    best = int(np.argmin(dist @ np.full(len(pts), 1.0 / len(pts))))
+    best, members = trimmed_medoid_index(dist, rounds=rounds, discard_fraction=frac,
+                                         min_members=min_members, n=len(pts))
+    return pts[best], members
+
+
+def trimmed_medoid_index(distances, *, rounds: int = 5, discard_fraction: float = 0.2,
+                         min_members: int = 1, n: int | None = None):
+    """Iterative trimming around the medoid, on a precomputed distance matrix.
+
+    Parameters
+    ----------
+    distances : ndarray of shape (N, N)
+        Pairwise distances of the points.
+
+    Returns
+    -------
+    index : int
+        Row of the final medoid.
+    members : ndarray of bool, shape (N,)
+
+    Examples
+    --------
+    >>> d = np.abs(np.subtract.outer([0.0, 0.1, 0.2, 5.0], [0.0, 0.1, 0.2, 5.0]))
+    >>> i, keep = trimmed_medoid_index(d, rounds=1, discard_fraction=0.25)
+    >>> i, keep.tolist()
+    (1, [True, True, True, False])
+    """
+    dist = np.asarray(distances, dtype=float)
+    n = len(dist) if n is None else n
+    if dist.shape != (n, n):
+        raise ValueError(f"distances: expected shape ({n}, {n}), got {dist.shape}")
+    idx = np.arange(n)
+    best = int(np.argmin(dist @ np.full(n, 1.0 / n)))
     for _ in range(rounds):
-        keep = max(min_members, int(np.ceil(len(idx) * (1.0 - frac))))
+        keep = max(min_members, int(np.ceil(len(idx) * (1.0 - discard_fraction))))
         if keep >= len(idx):
             break
         idx = np.sort(idx[np.argsort(dist[best, idx], kind="stable")[:keep]])
         sub = dist[np.ix_(idx, idx)]
         best = int(idx[np.argmin(sub @ np.full(len(idx), 1.0 / len(idx)))])
-    members = np.zeros(len(pts), bool)
+    members = np.zeros(n, bool)
     members[idx] = True
-    return pts[best], members
+    return best, members
 
 
 def mad_centre(manifold, points, *, k: float = 3.0, centre: str = "medoid", max_iter: int = 10):

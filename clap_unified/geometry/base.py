@@ -47,6 +47,9 @@ class Manifold(ABC):
     is_metric: bool = False
     #: True when ``d(a, b) = d(b, a)``; pairwise matrices then evaluate each pair once.
     is_symmetric: bool = True
+    #: Up to this many points a symmetric pairwise matrix is one broadcast call
+    #: (every pair twice, fewer Python-level calls); cheap distances raise it.
+    small_pairwise: int = 64
     #: Short name used in reprs and figures.
     name: str = "manifold"
 
@@ -131,6 +134,12 @@ class Manifold(ABC):
     def _pairwise_symmetric(self, a) -> np.ndarray:
         """All distances within one set, evaluating each unordered pair once."""
         n = a.shape[0]
+        if n <= self.small_pairwise:
+            # few points: one broadcast call beats gathering the upper triangle,
+            # then symmetrise from the upper triangle so out[i, j] == out[j, i]
+            out = self.distance(a[:, None], a[None, :])
+            upper = np.triu(out, 1)
+            return upper + upper.T
         out = np.zeros((n, n))
         i, j = np.triu_indices(n, 1)
         for start in range(0, len(i), PAIRWISE_BLOCK):

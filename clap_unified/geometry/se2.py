@@ -52,6 +52,7 @@ class SE2(MatrixLieGroup):
     dim = 3
     matrix_size = 3
     is_metric = False
+    small_pairwise = 512
     name = "SE(2)"
 
     def __init__(self, angle_weight: float = 1.0):

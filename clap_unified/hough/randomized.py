@@ -151,9 +151,10 @@ def randomized_hough(space, data, *, hypotheses: HypothesisSet | None = None,
     diag["occupied_cells"] = len(cells)
     diag["runner_up_ratio"] = runner_up_ratio(clusters)
     model = clusters[0].model
-    inliers = inliers_of(space, model, data, t)
     if refit:
         model, inliers = refit_on_inliers(space, model, data, t)
+    else:
+        inliers = inliers_of(space, model, data, t)
     support = np.zeros(h, bool)
     support[clusters[0].members] = True
     diag["seconds"] = time.perf_counter() - t0

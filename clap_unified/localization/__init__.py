@@ -2,30 +2,57 @@
 
 2D (RoboCup Humanoid fields): typed landmark maps (:mod:`.field`), a camera
 and detection simulator (:mod:`.observations`), one-frame localization by
-CLAP, RANSAC or Hough on the same candidates (:mod:`.localize2d`).
+CLAP, RANSAC or Hough on the same candidates (:mod:`.localize2d`), a walking
+trajectory (:mod:`.trajectory`), an SE(2) EKF (:mod:`.ekf`), Monte Carlo
+localization (:mod:`.mcl`) and the tracking comparison (:mod:`.tracking`).
+
+The map modules are imported eagerly; the estimators, which build on
+:mod:`clap_unified.spaces` (whose landmark space needs the map), on first use.
 """
 
-from .field import LANDMARK_TYPES, Field, load_field
-from .localize2d import LOCALIZE_METHODS, as_pose, localize2d, observation_data
+import importlib
+
+from .field import FIELD_DIMENSIONS, LANDMARK_TYPES, Field, field_landmarks, load_field
 from .observations import (
-                           FALSE_POSITIVE_KINDS,
-                           Camera,
-                           Observations,
-                           simulate_observations,
-                           visible_landmarks,
+    FALSE_POSITIVE_KINDS,
+    Camera,
+    Observations,
+    simulate_observations,
+    visible_landmarks,
 )
+
+_LAZY = {
+    "LOCALIZE_METHODS": "localize2d", "as_pose": "localize2d", "localize2d": "localize2d",
+    "observation_data": "localize2d",
+    "Trajectory": "trajectory", "walk_trajectory": "trajectory",
+    "PoseEKF": "ekf", "ParticleFilter": "mcl",
+    "TrackingRun": "tracking", "simulate_frames": "tracking", "track_clap_ekf": "tracking",
+    "track_mcl": "tracking", "tracking_errors": "tracking", "tracking_summary": "tracking",
+}
+
+
+def __getattr__(name):
+    if name in _LAZY:
+        value = getattr(importlib.import_module(f".{_LAZY[name]}", __name__), name)
+        globals()[name] = value
+        return value
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
+def __dir__():
+    return sorted(set(globals()) | set(_LAZY))
+
 
 __all__ = [
     "FALSE_POSITIVE_KINDS",
+    "FIELD_DIMENSIONS",
     "LANDMARK_TYPES",
-    "LOCALIZE_METHODS",
     "Camera",
     "Field",
     "Observations",
-    "as_pose",
+    "field_landmarks",
     "load_field",
-    "localize2d",
-    "observation_data",
     "simulate_observations",
     "visible_landmarks",
+    *_LAZY,
 ]

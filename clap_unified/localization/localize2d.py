@@ -88,8 +88,11 @@ def localize2d(observations, field="adult", *, method: str = "clap", prior=None,
     field : {"adult", "kid"} or Field
     method : {"clap", "ransac", "hough"}
     prior : (x, y, theta) or ndarray of shape (3, 3), optional
-        Previous estimate. CLAP runs in local mode around it; RANSAC and Hough
-        only see the candidates within ``radius`` of it.
+        Previous estimate. The candidates are then those of the association it
+        implies (:meth:`~clap_unified.spaces.Landmark2DSpace.local_hypotheses`,
+        observations within ``radius`` metres of a landmark of their type)
+        that lie within ``radius`` of it; CLAP runs in local mode, RANSAC and
+        Hough see the same candidates.
     radius : float
         Gate around the prior in the SE(2) distance (metres, radians times
         ``angle_weight``).
@@ -150,18 +153,20 @@ def localize2d(observations, field="adult", *, method: str = "clap", prior=None,
         return ConsensusResult.failure(method, f"observations: {n} given, a pose needs at least "
                                        f"{space.min_samples}", n, 0, space)
     data = space.check_data(data)
-    if hypotheses is None:
+    if prior is not None and hypotheses is None:
+        # only the candidates the prior's association allows (see local_hypotheses)
+        hypotheses = space.local_hypotheses(data, prior, gate=radius)
+    elif hypotheses is None:
         hypotheses = generate_hypotheses(space, data, max_hypotheses, rng=rng)
     candidates = hypotheses
-    if prior is not None:
+    if prior is not None and method != "clap":  # CLAP's local mode gates them itself
         near = space.manifold.distance(prior, hypotheses.models) <= radius
         candidates = hypotheses.subset(np.flatnonzero(near))
     common = dict(hypotheses=candidates, residual_threshold=residual_threshold)
     if method == "clap":
         if prior is not None:
-            res = clap(space, data, hypotheses=hypotheses, mode="local", initial_guess=prior,
-                       radius=radius, min_support=min_support,
-                       residual_threshold=residual_threshold)
+            res = clap(space, data, mode="local", initial_guess=prior, radius=radius,
+                       min_support=min_support, **common)
         else:
             res = clap(space, data, bandwidth=bandwidth, max_clusters=max_clusters,
                        min_support=min_support, **common)
@@ -174,5 +179,5 @@ def localize2d(observations, field="adult", *, method: str = "clap", prior=None,
     else:
         res = randomized_hough(space, data, cell_size=hough_cell, coordinates=SE2.to_xytheta,
                                periods=(None, None, 2 * np.pi), num_peaks=max_clusters, **common)
-    res.diagnostics["candidates"] = len(hypotheses)
+    res.diagnostics["candidates"] = len(candidates)
     return res

@@ -140,9 +140,10 @@ def ransac(space, data, *, hypotheses: HypothesisSet | None = None, max_trials: 
         return ConsensusResult.failure("ransac", "every minimal sample was degenerate", n, n_hyp,
                                        space, **diag)
     model = best_model
-    inliers = inliers_of(space, model, data, t)
     if refit:
         model, inliers = refit_on_inliers(space, model, data, t)
+    else:
+        inliers = inliers_of(space, model, data, t)
     if np.count_nonzero(inliers) < m:
         diag["seconds"] = time.perf_counter() - t0
         return ConsensusResult.failure("ransac", f"best model has fewer than {m} inliers", n,

@@ -19,7 +19,7 @@ import numpy as np
 from .._validation import check_points, check_positive
 from ..geometry.se2 import SE2
 from ..localization.field import LANDMARK_TYPES, Field
-from .base import HypothesisSpace
+from .base import HypothesisSet, HypothesisSpace
 
 __all__ = ["Landmark2DSpace", "observations_array"]
 
@@ -103,6 +103,11 @@ class Landmark2DSpace(HypothesisSpace):
         self.distance_tolerance = check_positive(distance_tolerance, "distance_tolerance")
         self._manifold = SE2(angle_weight=angle_weight)
         self._type_ids = np.array([LANDMARK_TYPES.index(t) for t in field.types])
+        a, b = np.nonzero(~np.eye(len(field.positions), dtype=bool))  # ordered map pairs
+        self._map_pairs = (a, b, np.linalg.norm(field.positions[b] - field.positions[a], axis=1),
+                           self._type_ids[a], self._type_ids[b])
+        self._marks_of_type = {int(t): field.positions[self._type_ids == t]
+                               for t in np.unique(self._type_ids)}
 
     def __repr__(self) -> str:
         return f"Landmark2DSpace(field={self.field.name!r}, tol={self.distance_tolerance:g})"
@@ -123,19 +128,19 @@ class Landmark2DSpace(HypothesisSpace):
         """Every type-compatible ordered map pair for every observation pair, batched."""
         data = np.asarray(data, dtype=float)
         ids = data[:, 0].astype(int)
-        maps = self.field.positions
-        # all ordered map pairs (a, b), a != b
-        a, b = np.nonzero(~np.eye(len(maps), dtype=bool))
-        sep_map = np.linalg.norm(maps[b] - maps[a], axis=1)
+        a, b, sep_map, ta, tb = self._map_pairs
         i, j = samples[:, 0], samples[:, 1]
         sep_obs = np.linalg.norm(data[j, 1:] - data[i, 1:], axis=1)
-        ok = ((ids[i][:, None] == self._type_ids[a][None]) &
-              (ids[j][:, None] == self._type_ids[b][None]) &
-              (np.abs(sep_obs[:, None] - sep_map[None]) <= self.distance_tolerance) &
+        ok = ((ids[i][:, None] == ta) & (ids[j][:, None] == tb) &
+              (np.abs(sep_obs[:, None] - sep_map) <= self.distance_tolerance) &
               (sep_obs[:, None] > 1e-9))
         s, k = np.nonzero(ok)
-        p, q = data[i[s], 1:], data[j[s], 1:]
-        m, n = maps[a[k]], maps[b[k]]
+        return self._poses(data[i[s], 1:], data[j[s], 1:], a[k], b[k], s)
+
+    def _poses(self, p, q, a, b, owner):
+        """Poses mapping observed points ``p, q`` onto map landmarks ``a, b`` (closed form)."""
+        maps = self.field.positions
+        m, n = maps[a], maps[b]
         theta = (np.arctan2(*(n - m)[:, ::-1].T) - np.arctan2(*(q - p)[:, ::-1].T))
         c, sn = np.cos(theta), np.sin(theta)
         mid_obs, mid_map = (p + q) / 2, (m + n) / 2
@@ -143,8 +148,63 @@ class Landmark2DSpace(HypothesisSpace):
                                 sn * mid_obs[:, 0] + c * mid_obs[:, 1]], axis=1)
         if self.bounds is not None:
             inside = (np.abs(t[:, 0]) <= self.bounds[0]) & (np.abs(t[:, 1]) <= self.bounds[1])
-            t, theta, s = t[inside], theta[inside], s[inside]
-        return SE2.from_xytheta(t[:, 0], t[:, 1], theta), s
+            t, theta, owner = t[inside], theta[inside], owner[inside]
+        return SE2.from_xytheta(t[:, 0], t[:, 1], theta), owner
+
+    def associate(self, data, pose, gate: float) -> np.ndarray:
+        """Map landmark of each observation under ``pose``: the nearest of its type.
+
+        Returns
+        -------
+        ndarray of int, shape (N,)
+            Landmark index, -1 where none of the observation's type lies within
+            ``gate`` metres.
+        """
+        data = np.asarray(data, dtype=float)
+        world = self._world(np.asarray(pose)[None], data)[0]
+        diff = world[:, None, :] - self.field.positions[None]
+        d2 = np.einsum("nmk,nmk->nm", diff, diff)
+        d2[data[:, 0].astype(int)[:, None] != self._type_ids[None]] = np.inf
+        nearest = d2.argmin(axis=1)
+        return np.where(d2[np.arange(len(data)), nearest] <= gate**2, nearest, -1)
+
+    def local_hypotheses(self, data, pose, gate: float) -> HypothesisSet:
+        """Candidates consistent with a prior: one pose per pair of associated observations.
+
+        Local mode needs only the candidates near the prior, and those come
+        from the association the prior implies: each observation is paired
+        with its nearest same-type landmark under ``pose`` (within ``gate``
+        metres), and every pair of associated observations whose separation
+        agrees with its landmarks' gives one pose, instead of every
+        type-compatible map pair.
+
+        Examples
+        --------
+        >>> from clap_unified.localization import load_field
+        >>> space = Landmark2DSpace(load_field("adult"))
+        >>> truth = SE2.from_xytheta(4.0, 1.0, 0.1)
+        >>> marks = space.field.positions[space.field.types == "goal_post"][2:]
+        >>> local = (np.linalg.inv(truth) @ np.c_[marks, np.ones(2)].T).T[:, :2]
+        >>> obs = np.c_[np.full(2, 3.0), local]
+        >>> hyps = space.local_hypotheses(obs, SE2.from_xytheta(3.8, 1.2, 0.15), gate=1.0)
+        >>> np.round(SE2.to_xytheta(hyps.models), 3).tolist()
+        [[4.0, 1.0, 0.1]]
+        """
+        data = np.asarray(data, dtype=float)
+        mark = self.associate(data, pose, gate)
+        idx = np.flatnonzero(mark >= 0)
+        i, j = np.triu_indices(len(idx), 1)
+        i, j = idx[i], idx[j]
+        maps = self.field.positions
+        sep_obs = np.linalg.norm(data[j, 1:] - data[i, 1:], axis=1)
+        sep_map = np.linalg.norm(maps[mark[j]] - maps[mark[i]], axis=1)
+        ok = (np.abs(sep_obs - sep_map) <= self.distance_tolerance) & (sep_obs > 1e-9)
+        i, j = i[ok], j[ok]
+        models, owner = self._poses(data[i, 1:], data[j, 1:], mark[i], mark[j],
+                                    np.arange(len(i)))
+        samples = np.c_[i, j][owner]
+        n_pairs = len(data) * (len(data) - 1) // 2
+        return HypothesisSet(models, samples, n_pairs, n_pairs - len(models), True, self)
 
     def _world(self, models, data):
         T = np.asarray(models, dtype=float).reshape(-1, 3, 3)
@@ -166,17 +226,13 @@ class Landmark2DSpace(HypothesisSpace):
         target : ndarray of shape (H, N, 2)
             The nearest landmark (NaN where there is none).
         """
-        distance = np.full(world.shape[:2], np.inf)
-        target = np.full(world.shape, np.nan)
-        for t in np.unique(ids):
-            marks = self.field.positions[self._type_ids == t]
-            if len(marks) == 0:
-                continue
-            cols = ids == t
-            d = np.linalg.norm(world[:, cols, None, :] - marks[None, None], axis=-1)
-            nearest = d.argmin(axis=-1)
-            distance[:, cols] = np.take_along_axis(d, nearest[..., None], axis=-1)[..., 0]
-            target[:, cols] = marks[nearest]
+        diff = world[:, :, None, :] - self.field.positions
+        d2 = np.einsum("hnmk,hnmk->hnm", diff, diff)
+        d2[:, self._type_ids[None, :] != np.asarray(ids)[:, None]] = np.inf
+        nearest = d2.argmin(axis=-1)
+        distance = np.sqrt(np.take_along_axis(d2, nearest[..., None], axis=-1)[..., 0])
+        target = self.field.positions[nearest]
+        target[~np.isfinite(distance)] = np.nan
         return distance, target
 
     def residuals(self, models, data) -> np.ndarray:
