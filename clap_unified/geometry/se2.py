@@ -11,14 +11,17 @@ __all__ = ["SE2"]
 
 
 def _coefficients(theta):
-    """``sin(t)/t`` and ``(1 - cos t)/t``, branch-free and exact near 0.
+    """``sin(t)/t`` and ``(1 - cos t)/t``, exact near 0.
 
-    ``(1 - cos t)/t = sin(t/2) * sinc(t/2)`` (unnormalised sinc), and
-    ``numpy.sinc`` handles ``t = 0``.
+    ``(1 - cos t)/t`` is computed as ``2 sin(t/2)**2 / t`` (no cancellation);
+    both are set to their limits 1 and 0 at ``t = 0``.
     """
     theta = np.asarray(theta, dtype=float)
-    half = np.sin(theta / 2)
-    return np.sinc(theta / np.pi), half * np.sinc(theta / (2 * np.pi))
+    zero = theta == 0
+    safe = np.where(zero, 1.0, theta)
+    a = np.where(zero, 1.0, np.sin(theta) / safe)
+    b = 2.0 * np.sin(theta / 2) ** 2 / safe
+    return a, b
 
 
 class SE2(MatrixLieGroup):
@@ -81,8 +84,11 @@ class SE2(MatrixLieGroup):
         >>> SE2.from_xytheta([0.0, 1.0], 2.0, 0.0)[:, :2, 2].tolist()
         [[0.0, 2.0], [1.0, 2.0]]
         """
-        x, y, theta = (check_array(v, n) for v, n in ((x, "x"), (y, "y"), (theta, "theta")))
-        x, y, theta = np.broadcast_arrays(x, y, theta)
+        x, y, theta = np.broadcast_arrays(np.asarray(x, dtype=float), np.asarray(y, dtype=float),
+                                          np.asarray(theta, dtype=float))
+        if not (np.isfinite(x).all() and np.isfinite(y).all() and np.isfinite(theta).all()):
+            for v, n in ((x, "x"), (y, "y"), (theta, "theta")):
+                check_array(v, n)  # names the offending argument
         c, s = np.cos(theta), np.sin(theta)
         T = np.zeros((*x.shape, 3, 3))
         T[..., 0, 0], T[..., 0, 1], T[..., 0, 2] = c, -s, x

@@ -162,6 +162,10 @@ def localize2d(observations, field="adult", *, method: str = "clap", prior=None,
     if prior is not None and method != "clap":  # CLAP's local mode gates them itself
         near = space.manifold.distance(prior, hypotheses.models) <= radius
         candidates = hypotheses.subset(np.flatnonzero(near))
+    if len(candidates) == 0:
+        where = "" if prior is None else f" within radius {radius:g} of the prior"
+        return ConsensusResult.failure(method, f"no candidate pose{where}", n, len(hypotheses),
+                                       space)
     common = dict(hypotheses=candidates, residual_threshold=residual_threshold)
     if method == "clap":
         if prior is not None:
@@ -170,10 +174,6 @@ def localize2d(observations, field="adult", *, method: str = "clap", prior=None,
         else:
             res = clap(space, data, bandwidth=bandwidth, max_clusters=max_clusters,
                        min_support=min_support, **common)
-    elif len(candidates) == 0:
-        where = "" if prior is None else f" within radius {radius:g} of the prior"
-        return ConsensusResult.failure(method, f"no candidate pose{where}", n, len(hypotheses),
-                                       space)
     elif method == "ransac":
         res = ransac(space, data, max_trials=len(candidates), **common)
     else:
