@@ -8,14 +8,19 @@ draw on a Matplotlib ``Axes`` the chapter passes in. The backend is never
 touched here.
 """
 
+from .field import LANDMARK_STYLE, draw_detections, draw_field, draw_pose
 from .plots import plot_accumulator, plot_error_curves, plot_hypotheses, plot_points_and_lines
 from .scenes import LineScene, line_errors, line_scene
 from .style import METHOD_STYLE, book_style, format_table
 
 __all__ = [
+    "LANDMARK_STYLE",
     "METHOD_STYLE",
     "LineScene",
     "book_style",
+    "draw_detections",
+    "draw_field",
+    "draw_pose",
     "format_table",
     "line_errors",
     "line_scene",
