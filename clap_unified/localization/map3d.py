@@ -1,0 +1,140 @@
+"""Typed 3D landmark maps: the MoCap lab scenario's map and the JSON map format.
+
+The lab map is one half of a RoboCup field (the MoCap volume covers the
+attacking half): the field's ground features (``z = 0``) from
+:func:`~clap_unified.localization.field.field_landmarks`, the goal posts at
+their feet, the crossbar corners at the goal height, and a few typed wall
+markers at different heights. The elevated landmarks matter: the ground
+features alone are coplanar and symmetric about the field's long axis, so a
+triplet of them also fits a camera flipped upside down below the floor.
+"""
+
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from .._validation import check_points
+from .field import FIELD_DIMENSIONS, field_landmarks
+
+__all__ = ["LandmarkMap3D", "lab_map", "read_landmarks_json", "GOAL_HEIGHT"]
+
+#: Crossbar height above the ground (metres) by field size.
+GOAL_HEIGHT = {"adult": 1.8, "kid": 1.2}
+
+#: Wall markers of the lab (x, y, z in metres), deliberately asymmetric.
+LAB_MARKERS = ((7.9, 3.1, 1.2), (7.9, -2.4, 2.1), (5.2, -5.4, 1.6), (2.3, 5.4, 0.9))
+
+
+@dataclass(frozen=True)
+class LandmarkMap3D:
+    """Typed landmarks in the world frame.
+
+    Attributes
+    ----------
+    types : ndarray of str, shape (M,)
+    positions : ndarray of shape (M, 3)
+        Metres.
+    name : str
+    """
+
+    types: np.ndarray
+    positions: np.ndarray
+    name: str = "map"
+
+    def __post_init__(self):
+        pos = check_points(self.positions, "positions", dim=3, min_count=3)
+        types = np.asarray([str(t) for t in self.types])
+        if types.shape != (len(pos),):
+            raise ValueError(f"types: expected one type per landmark ({len(pos)}), "
+                             f"got {types.shape}")
+        object.__setattr__(self, "positions", pos)
+        object.__setattr__(self, "types", types)
+
+    def __len__(self) -> int:
+        return len(self.positions)
+
+    def to_json(self) -> list[dict]:
+        """The map as the command line reads it: ``[{"type", "x", "y", "z"}, ...]``."""
+        return [{"type": str(k), "x": float(x), "y": float(y), "z": float(z)}
+                for k, (x, y, z) in zip(self.types, self.positions, strict=True)]
+
+    def space(self, **kwargs):
+        """A :class:`~clap_unified.spaces.landmarks3d.Landmark3DSpace` on this map."""
+        from ..spaces.landmarks3d import Landmark3DSpace
+
+        return Landmark3DSpace(self.positions, self.types, **kwargs)
+
+
+def lab_map(size: str = "adult", *, markers: bool = True) -> LandmarkMap3D:
+    """The simulated MoCap lab: half a RoboCup field, its goal, and wall markers.
+
+    Parameters
+    ----------
+    size : {"adult", "kid"}
+    markers : bool
+        Add the wall markers (type ``"marker"``).
+
+    Examples
+    --------
+    >>> m = lab_map()
+    >>> len(m), sorted(set(m.types.tolist()))
+    (24, ['L', 'T', 'X', 'center_mark', 'crossbar', 'goal_post', 'marker', 'penalty_mark'])
+    """
+    if size not in FIELD_DIMENSIONS:
+        raise ValueError(f"size: expected one of {sorted(FIELD_DIMENSIONS)}, got {size!r}")
+    dims = FIELD_DIMENSIONS[size]
+    types, pos = [], []
+    for m in field_landmarks(dims):
+        if m["x"] >= 0:
+            types.append(m["type"])
+            pos.append([m["x"], m["y"], 0.0])
+    hl, hg = dims["length"] / 2, dims["goal_width"] / 2
+    for sy in (-1, 1):
+        types.append("crossbar")
+        pos.append([hl, sy * hg, GOAL_HEIGHT[size]])
+    if markers:
+        for xyz in LAB_MARKERS:
+            types.append("marker")
+            pos.append(list(xyz))
+    return LandmarkMap3D(np.array(types), np.array(pos), name=f"lab-{size}")
+
+
+def read_landmarks_json(path, what: str = "map") -> tuple[np.ndarray, np.ndarray]:
+    """Types ``(M,)`` and positions ``(M, 3)`` from a JSON list of ``{"type", "x", "y", "z"}``.
+
+    Raises
+    ------
+    ValueError
+        Missing or unreadable file, invalid JSON, not a list, missing or
+        non-numeric or non-finite coordinates; the message names the file.
+    """
+    path = Path(path)
+    try:
+        doc = json.loads(path.read_text())
+    except FileNotFoundError:
+        raise ValueError(f"{path}: no such {what} file") from None
+    except (OSError, UnicodeDecodeError) as exc:
+        raise ValueError(f"{path}: cannot read ({exc})") from None
+    except json.JSONDecodeError as exc:
+        raise ValueError(f"{path}: not valid JSON ({exc})") from None
+    if not isinstance(doc, list):
+        raise ValueError(f"{path}: expected a JSON list of {{\"type\", \"x\", \"y\", \"z\"}} "
+                         "objects")
+    types, pos = [], []
+    for i, item in enumerate(doc):
+        try:
+            kind = item["type"]
+            xyz = [float(item[c]) for c in "xyz"]
+        except (KeyError, TypeError, ValueError):
+            raise ValueError(f"{path}: entry {i}: expected {{\"type\", \"x\", \"y\", \"z\"}} "
+                             f"with numbers, got {item!r}") from None
+        if not isinstance(kind, str) or not np.all(np.isfinite(xyz)):
+            raise ValueError(f"{path}: entry {i}: type must be a string and x, y, z finite "
+                             "numbers")
+        types.append(kind)
+        pos.append(xyz)
+    return np.array(types, dtype=str), np.array(pos, dtype=float).reshape(-1, 3)

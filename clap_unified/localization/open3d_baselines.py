@@ -1,0 +1,270 @@
+"""Open3D baselines for 6-DoF registration, and a generated point-cloud scene.
+
+Thin wrappers that put numpy arrays into Open3D and take 4 x 4 poses out, so
+the chapter, the benchmark and the command line run exactly the same calls:
+
+* :func:`open3d_correspondence_ransac`:
+  ``registration_ransac_based_on_correspondence`` on given correspondences,
+  with Open3D's edge-length and distance checkers (the counterpart of the
+  triplet distance check of :mod:`clap_unified.spaces.rigid3d`);
+* point clouds: :func:`scene_point_clouds` (two seeded scans of one scene
+  built from Open3D primitives), :func:`fpfh_features`,
+  :func:`feature_correspondences` (mutual nearest neighbours in FPFH space),
+  :func:`open3d_feature_ransac` (RANSAC on feature matching) and
+  :func:`open3d_fgr` (fast global registration).
+
+Open3D is imported on first use. Its RANSAC runs on several threads, so its
+results are reproducible only up to thread scheduling, even with a seed.
+"""
+
+from __future__ import annotations
+
+import os
+import time
+
+import numpy as np
+
+from .._validation import as_generator, check_int, check_positive
+from ..geometry.se3 import SE3
+from ..geometry.so3 import so3_exp
+
+__all__ = ["open3d_correspondence_ransac", "scene_point_clouds", "fpfh_features",
+           "feature_correspondences", "open3d_feature_ransac", "open3d_fgr", "PointCloudScene"]
+
+
+def _o3d():
+    os.environ.setdefault("OPEN3D_DISABLE_WEB_VISUALIZER", "true")
+    import open3d as o3d
+
+    return o3d
+
+
+def _cloud(points):
+    o3d = _o3d()
+    pc = o3d.geometry.PointCloud()
+    pc.points = o3d.utility.Vector3dVector(np.ascontiguousarray(points, dtype=float))
+    return pc
+
+
+def open3d_correspondence_ransac(source, target, correspondences, *, threshold: float,
+                                 max_iteration: int = 100000, confidence: float = 0.999,
+                                 edge_length: float | None = 0.9, seed: int = 0):
+    """Open3D's RANSAC over putative correspondences: ``target ~ T source``.
+
+    Parameters
+    ----------
+    source : ndarray of shape (N, 3)
+        Points in the body frame.
+    target : ndarray of shape (M, 3)
+        Points in the world frame.
+    correspondences : ndarray of int, shape (K, 2)
+        Rows ``(source index, target index)``.
+    threshold : float
+        Inlier distance, metres (``max_correspondence_distance``).
+    max_iteration : int
+        RANSAC iterations at most (Open3D's default 100,000).
+    confidence : float
+        Open3D's early-stop confidence.
+    edge_length : float or None
+        ``CorrespondenceCheckerBasedOnEdgeLength`` similarity (0.9 in
+        Open3D's examples); None turns the checker off.
+    seed : int
+        Seeds Open3D's random generator.
+
+    Returns
+    -------
+    T : ndarray of shape (4, 4)
+        ``T_world_body``; the identity when no sample passed the checkers.
+    info : dict
+        ``seconds``, ``fitness`` (Open3D's inlier fraction), ``inlier_rmse``,
+        ``inliers`` (indices into ``correspondences``).
+
+    Examples
+    --------
+    >>> rng = np.random.default_rng(0)
+    >>> p = rng.uniform(-3, 3, (20, 3))
+    >>> q = p + [1.0, 2.0, 0.5]
+    >>> corr = np.c_[np.arange(20), np.arange(20)]
+    >>> corr[:8, 1] = rng.permutation(8)[::-1]       # some wrong pairs
+    >>> T, info = open3d_correspondence_ransac(p, q, corr, threshold=0.05)
+    >>> T[:3, 3].round(4).tolist()
+    [1.0, 2.0, 0.5]
+    """
+    o3d = _o3d()
+    reg = o3d.pipelines.registration
+    corr = np.ascontiguousarray(correspondences, dtype=np.int32).reshape(-1, 2)
+    threshold = check_positive(threshold, "threshold")
+    max_iteration = check_int(max_iteration, "max_iteration", minimum=1)
+    o3d.utility.random.seed(int(seed))
+    checkers = [reg.CorrespondenceCheckerBasedOnDistance(threshold)]
+    if edge_length is not None:
+        checkers.insert(0, reg.CorrespondenceCheckerBasedOnEdgeLength(edge_length))
+    src, tgt = _cloud(source), _cloud(target)
+    t0 = time.perf_counter()
+    res = reg.registration_ransac_based_on_correspondence(
+        src, tgt, o3d.utility.Vector2iVector(corr), threshold,
+        reg.TransformationEstimationPointToPoint(False), 3, checkers,
+        reg.RANSACConvergenceCriteria(max_iteration, confidence))
+    seconds = time.perf_counter() - t0
+    T = np.asarray(res.transformation).copy()
+    moved = np.asarray(source, dtype=float)[corr[:, 0]] @ T[:3, :3].T + T[:3, 3]
+    err = np.linalg.norm(moved - np.asarray(target, dtype=float)[corr[:, 1]], axis=1)
+    return T, {"seconds": seconds, "fitness": float(res.fitness),
+               "inlier_rmse": float(res.inlier_rmse), "inliers": np.flatnonzero(err < threshold)}
+
+
+# ---------------------------------------------------------------- point clouds
+class PointCloudScene:
+    """Two scans of one scene and the true motion between them.
+
+    Attributes
+    ----------
+    source, target : ndarray of shape (N, 3), (M, 3)
+        ``target`` is in the world frame, ``source`` in the sensor frame of
+        the second scan: ``target ~ truth @ source`` on the overlap.
+    truth : ndarray of shape (4, 4)
+    """
+
+    def __init__(self, source, target, truth):
+        self.source, self.target, self.truth = source, target, truth
+
+
+def _scene_meshes(o3d):
+    """A room corner with furniture-like primitives (metres)."""
+    parts = []
+
+    def add(mesh, xyz, rot=(0.0, 0.0, 0.0)):
+        mesh.rotate(so3_exp(np.asarray(rot, dtype=float)), center=(0, 0, 0))
+        mesh.translate(xyz)
+        parts.append(mesh)
+
+    g = o3d.geometry.TriangleMesh
+    add(g.create_box(4.0, 3.0, 0.02), (-2.0, -1.5, -0.02))                  # floor
+    add(g.create_box(4.0, 0.02, 2.0), (-2.0, 1.5, 0.0))                     # back wall
+    add(g.create_box(0.02, 3.0, 2.0), (-2.0, -1.5, 0.0))                    # side wall
+    add(g.create_box(0.8, 0.5, 0.7), (-1.5, 0.6, 0.0), (0, 0, 0.3))         # cabinet
+    add(g.create_sphere(0.35), (0.6, 0.2, 0.35))
+    add(g.create_cylinder(0.2, 1.2), (-0.4, -0.6, 0.6))
+    add(g.create_cone(0.3, 0.8), (1.2, -0.8, 0.0))
+    add(g.create_torus(0.4, 0.12), (0.9, 0.9, 0.8), (1.2, 0.0, 0.4))
+    add(g.create_box(0.3, 0.3, 1.4), (-1.2, -1.2, 0.0), (0, 0, 0.7))        # column
+    return parts
+
+
+def scene_point_clouds(*, n_points: int = 20000, noise: float = 0.005,
+                       rotation_deg: float = 30.0, translation: float = 0.5,
+                       rng=None) -> PointCloudScene:
+    """Two noisy scans of a generated scene, related by a random rigid motion.
+
+    Each scan samples the scene's surfaces (Open3D primitives: a floor, two
+    walls, a cabinet, a sphere, a cylinder, a cone, a torus, a column)
+    independently, keeps the part seen from its own side (partial overlap),
+    and adds Gaussian noise. The second scan is expressed in a frame moved
+    by a random rotation of ``rotation_deg`` degrees and a translation of
+    ``translation`` metres.
+
+    Parameters
+    ----------
+    n_points : int
+        Points sampled per scan before cropping.
+    noise : float
+        Per-axis noise, metres.
+    rotation_deg, translation : float
+        Size of the true motion.
+    rng : None, int or numpy.random.Generator
+
+    Returns
+    -------
+    PointCloudScene
+    """
+    o3d = _o3d()
+    g = as_generator(rng)
+    n_points = check_int(n_points, "n_points", minimum=100)
+    meshes = _scene_meshes(o3d)
+    areas = np.array([m.get_surface_area() for m in meshes])
+
+    def scan(keep_side):
+        counts = g.multinomial(n_points, areas / areas.sum())
+        pts = []
+        for mesh, k in zip(meshes, counts, strict=True):
+            if k:
+                o3d.utility.random.seed(int(g.integers(2**31 - 1)))
+                pts.append(np.asarray(mesh.sample_points_uniformly(int(k)).points))
+        pts = np.vstack(pts)
+        pts = pts[keep_side(pts)]
+        return pts + g.normal(0, noise, pts.shape)
+
+    target = scan(lambda p: p[:, 0] < 1.0)
+    world_src = scan(lambda p: p[:, 0] > -1.2)
+    axis = g.normal(size=3)
+    axis /= np.linalg.norm(axis)
+    direction = g.normal(size=3)
+    direction /= np.linalg.norm(direction)
+    truth = SE3.from_rt(so3_exp(np.radians(rotation_deg) * axis), translation * direction)
+    source = (world_src - truth[:3, 3]) @ truth[:3, :3]  # truth^-1 applied
+    return PointCloudScene(source, target, truth)
+
+
+def fpfh_features(points, voxel: float):
+    """Voxel-downsampled points ``(K, 3)`` and their FPFH descriptors ``(K, 33)``.
+
+    Normals from a ``2 voxel`` radius (30 neighbours at most), FPFH from a
+    ``5 voxel`` radius (100 at most), as in Open3D's global registration
+    tutorial. Also returns the Open3D cloud and feature for the Open3D
+    registrations.
+    """
+    o3d = _o3d()
+    voxel = check_positive(voxel, "voxel")
+    down = _cloud(points).voxel_down_sample(voxel)
+    down.estimate_normals(o3d.geometry.KDTreeSearchParamHybrid(radius=2 * voxel, max_nn=30))
+    feat = o3d.pipelines.registration.compute_fpfh_feature(
+        down, o3d.geometry.KDTreeSearchParamHybrid(radius=5 * voxel, max_nn=100))
+    return np.asarray(down.points).copy(), np.asarray(feat.data).T.copy(), down, feat
+
+
+def feature_correspondences(source_features, target_features, *, mutual: bool = True):
+    """Nearest neighbours in descriptor space, ``(K, 2)`` rows ``(source, target)``.
+
+    ``mutual`` keeps only pairs that are each other's nearest neighbour.
+    """
+    from scipy.spatial import cKDTree
+
+    fs = np.asarray(source_features, dtype=float)
+    ft = np.asarray(target_features, dtype=float)
+    _, s2t = cKDTree(ft).query(fs)
+    pairs = np.c_[np.arange(len(fs)), s2t]
+    if mutual:
+        _, t2s = cKDTree(fs).query(ft)
+        pairs = pairs[t2s[s2t] == np.arange(len(fs))]
+    return pairs.astype(np.intp)
+
+
+def open3d_feature_ransac(source_down, target_down, source_feat, target_feat, *,
+                          threshold: float, mutual: bool = True, max_iteration: int = 100000,
+                          confidence: float = 0.999, seed: int = 0):
+    """``registration_ransac_based_on_feature_matching`` (Open3D clouds and features).
+
+    Returns ``(T, seconds)`` with ``T = T_target_source``.
+    """
+    o3d = _o3d()
+    reg = o3d.pipelines.registration
+    o3d.utility.random.seed(int(seed))
+    t0 = time.perf_counter()
+    res = reg.registration_ransac_based_on_feature_matching(
+        source_down, target_down, source_feat, target_feat, mutual, threshold,
+        reg.TransformationEstimationPointToPoint(False), 3,
+        [reg.CorrespondenceCheckerBasedOnEdgeLength(0.9),
+         reg.CorrespondenceCheckerBasedOnDistance(threshold)],
+        reg.RANSACConvergenceCriteria(max_iteration, confidence))
+    return np.asarray(res.transformation).copy(), time.perf_counter() - t0
+
+
+def open3d_fgr(source_down, target_down, source_feat, target_feat, *, threshold: float):
+    """Open3D's fast global registration on feature matching; returns ``(T, seconds)``."""
+    o3d = _o3d()
+    reg = o3d.pipelines.registration
+    t0 = time.perf_counter()
+    res = reg.registration_fgr_based_on_feature_matching(
+        source_down, target_down, source_feat, target_feat,
+        reg.FastGlobalRegistrationOption(maximum_correspondence_distance=threshold))
+    return np.asarray(res.transformation).copy(), time.perf_counter() - t0

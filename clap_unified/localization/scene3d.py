@@ -1,0 +1,251 @@
+"""Simulated 6-DoF localization scenes: a MoCap-like trajectory and typed detections.
+
+The paper's MoCap recordings are not public, so this module simulates them:
+
+* :func:`mocap_trajectory`: ground-truth poses ``T_world_body`` of a humanoid's
+  head walking a loop on the lab field (body frame: x forward, y left, z up),
+  with the head height bobbing and small roll and pitch sway at the step
+  frequency, as a motion-capture system records them;
+* :func:`simulate_detections`: the landmarks in the camera's view cone,
+  detected with probability ``1 - miss_rate``, reported in the body frame
+  with isotropic Gaussian noise ``sigma + range_growth * r``, plus false
+  detections so that a fraction ``outlier_ratio`` of all detections is wrong.
+
+Two kinds of false detection: ``"random"`` (a random type at a random place
+in the view cone) and ``"wrong_type"`` (a visible landmark reported with
+another type). Each detection also carries a putative association (the map
+landmark a front end would pair it with): the true landmark for a correct
+detection, a random landmark of the reported type for a false one, so the
+same scene serves as ``N`` putative correspondences with the same outlier
+ratio. Everything is seeded.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .._validation import as_generator, check_fraction, check_int, check_positive
+from ..geometry.se3 import SE3
+from ..geometry.so3 import so3_exp
+from .map3d import LandmarkMap3D
+
+__all__ = ["View3D", "Detections3D", "mocap_trajectory", "simulate_detections"]
+
+
+@dataclass(frozen=True)
+class View3D:
+    """The camera's view cone and noise.
+
+    Parameters
+    ----------
+    hfov, vfov : float
+        Horizontal and vertical field of view, radians.
+    min_range, max_range : float
+        Metres.
+    sigma : float
+        Position noise (per axis) at zero range, metres.
+    range_growth : float
+        Noise growth per metre of range: ``sigma(r) = sigma + range_growth * r``.
+    """
+
+    hfov: float = np.radians(120.0)
+    vfov: float = np.radians(90.0)
+    min_range: float = 0.3
+    max_range: float = 9.0
+    sigma: float = 0.01
+    range_growth: float = 0.003
+
+    def __post_init__(self):
+        for name in ("hfov", "vfov", "max_range"):
+            check_positive(getattr(self, name), name)
+        for name in ("min_range", "sigma", "range_growth"):
+            check_positive(getattr(self, name), name, allow_zero=True)
+        if self.min_range >= self.max_range:
+            raise ValueError("min_range: must be below max_range")
+
+    def sees(self, body) -> np.ndarray:
+        """Which body-frame points ``(N, 3)`` are inside the view cone."""
+        p = np.asarray(body, dtype=float).reshape(-1, 3)
+        r = np.linalg.norm(p, axis=1)
+        az = np.arctan2(p[:, 1], p[:, 0])
+        el = np.arctan2(p[:, 2], np.hypot(p[:, 0], p[:, 1]))
+        return ((r >= self.min_range) & (r <= self.max_range) & (np.abs(az) <= self.hfov / 2)
+                & (np.abs(el) <= self.vfov / 2))
+
+    def random_points(self, n: int, rng) -> np.ndarray:
+        """``n`` random body-frame points inside the view cone."""
+        r = rng.uniform(max(self.min_range, 0.5), self.max_range, n)
+        az = rng.uniform(-self.hfov / 2, self.hfov / 2, n)
+        el = rng.uniform(-self.vfov / 2, self.vfov / 2, n)
+        return np.c_[r * np.cos(el) * np.cos(az), r * np.cos(el) * np.sin(az), r * np.sin(el)]
+
+
+@dataclass(frozen=True)
+class Detections3D:
+    """One frame of typed detections with its ground truth.
+
+    Attributes
+    ----------
+    data : ndarray of shape (N, 4)
+        Rows ``(type_id, x, y, z)`` in the body frame; ``type_id`` indexes
+        ``type_names``.
+    type_names : tuple of str
+        Sorted type names of the map (as :class:`~clap_unified.spaces.Landmark3DSpace`).
+    truth : ndarray of shape (4, 4)
+        True ``T_world_body``.
+    landmark : ndarray of int, shape (N,)
+        True map landmark of each detection, -1 for a false one.
+    association : ndarray of int, shape (N,)
+        Putative map landmark (true one for correct detections, a random
+        landmark of the reported type for false ones).
+    kind : ndarray of str, shape (N,)
+        ``"landmark"``, ``"random"`` or ``"wrong_type"``.
+    """
+
+    data: np.ndarray
+    type_names: tuple
+    truth: np.ndarray
+    landmark: np.ndarray
+    association: np.ndarray
+    kind: np.ndarray
+
+    def __len__(self) -> int:
+        return len(self.data)
+
+    @property
+    def is_outlier(self) -> np.ndarray:
+        """True for false detections."""
+        return self.landmark < 0
+
+    @property
+    def outlier_ratio(self) -> float:
+        return float(np.mean(self.is_outlier)) if len(self) else 0.0
+
+    def to_json(self) -> list[dict]:
+        """The detections as the command line reads them: ``[{"type", "x", "y", "z"}, ...]``."""
+        return [{"type": self.type_names[int(k)], "x": float(x), "y": float(y), "z": float(z)}
+                for k, x, y, z in self.data]
+
+    def correspondences(self, landmark_map: LandmarkMap3D) -> np.ndarray:
+        """Putative correspondences ``(N, 6)``: body point, associated map point."""
+        return np.c_[self.data[:, 1:], landmark_map.positions[self.association]]
+
+
+def mocap_trajectory(n_frames: int = 100, *, height: float = 1.25, rng=None) -> np.ndarray:
+    """Ground-truth head poses ``T_world_body`` of a robot walking a loop on the lab half-field.
+
+    The robot walks an ellipse around ``(3.5, 0)`` (semi-axes 2 m and 2.5 m)
+    looking roughly towards the goal at ``x = 7`` (yaw swinging +-40 degrees
+    around that direction), the camera pitched 15 degrees down, with step-rate
+    bobbing (+-2 cm) and sway (roll +-2, pitch +-3 degrees) and a little
+    seeded jitter, as a motion-capture system would record.
+
+    Parameters
+    ----------
+    n_frames : int
+    height : float
+        Mean head height, metres.
+    rng : None, int or numpy.random.Generator
+
+    Returns
+    -------
+    ndarray of shape (n_frames, 4, 4)
+
+    Examples
+    --------
+    >>> T = mocap_trajectory(5, rng=0)
+    >>> T.shape, bool(np.all(np.abs(T[:, 2, 3] - 1.25) < 0.05))
+    ((5, 4, 4), True)
+    """
+    n = check_int(n_frames, "n_frames", minimum=1)
+    height = check_positive(height, "height")
+    g = as_generator(rng)
+    s = np.arange(n) / n
+    x = 3.5 + 2.0 * np.cos(2 * np.pi * s)
+    y = 2.5 * np.sin(2 * np.pi * s)
+    steps = 2 * np.pi * 12 * s  # twelve steps per lap
+    to_goal = np.arctan2(-y, 7.0 - x)
+    yaw = to_goal + np.radians(40.0) * np.sin(2 * np.pi * 3 * s) + g.normal(0, 0.02, n)
+    pitch = np.radians(15.0) + np.radians(3.0) * np.sin(steps) + g.normal(0, 0.005, n)
+    roll = np.radians(2.0) * np.sin(steps / 2) + g.normal(0, 0.005, n)
+    z = height + 0.02 * np.cos(steps) + g.normal(0, 0.002, n)
+    ez = np.array([0.0, 0.0, 1.0])
+    ey = np.array([0.0, 1.0, 0.0])
+    ex = np.array([1.0, 0.0, 0.0])
+    R = so3_exp(yaw[:, None] * ez) @ so3_exp(pitch[:, None] * ey) @ so3_exp(roll[:, None] * ex)
+    return SE3.from_rt(R, np.c_[x, y, z])
+
+
+def simulate_detections(landmark_map: LandmarkMap3D, pose, *, outlier_ratio: float = 0.0,
+                        view: View3D | None = None, miss_rate: float = 0.1,
+                        wrong_type_fraction: float = 0.3, rng=None) -> Detections3D:
+    """Typed detections of the map from one pose, with noise, misses and false detections.
+
+    Parameters
+    ----------
+    landmark_map : LandmarkMap3D
+    pose : ndarray of shape (4, 4)
+        True ``T_world_body``.
+    outlier_ratio : float in [0, 1)
+        Fraction of all detections that are false: ``round(n_true * o / (1 - o))``
+        false detections are added to the ``n_true`` correct ones.
+    view : View3D, optional
+    miss_rate : float in [0, 1)
+        Probability that a visible landmark is not detected.
+    wrong_type_fraction : float in [0, 1]
+        Share of false detections that are real landmarks with a wrong type
+        (the rest are random points in the view cone with a random type).
+    rng : None, int or numpy.random.Generator
+
+    Returns
+    -------
+    Detections3D
+        Detections in random order.
+
+    Examples
+    --------
+    >>> from clap_unified.localization.map3d import lab_map
+    >>> T = mocap_trajectory(10, rng=0)[3]
+    >>> det = simulate_detections(lab_map(), T, outlier_ratio=0.6, rng=1)
+    >>> len(det), round(det.outlier_ratio, 2)
+    (37, 0.59)
+    """
+    o = check_fraction(outlier_ratio, "outlier_ratio")
+    miss = check_fraction(miss_rate, "miss_rate")
+    wt = check_fraction(wrong_type_fraction, "wrong_type_fraction", inclusive=(True, True))
+    view = View3D() if view is None else view
+    T = SE3().validate(pose, "pose")
+    if T.shape != (4, 4):
+        raise ValueError(f"pose: expected one 4 x 4 pose, got shape {T.shape}")
+    g = as_generator(rng)
+    names = tuple(sorted(set(landmark_map.types.tolist())))
+    tid = np.array([names.index(t) for t in landmark_map.types])
+    R, t = T[:3, :3], T[:3, 3]
+    body = (landmark_map.positions - t) @ R  # R^T (q - t)
+    seen = np.flatnonzero(view.sees(body) & (g.random(len(body)) >= miss))
+    r = np.linalg.norm(body[seen], axis=1)
+    noisy = body[seen] + g.normal(size=(len(seen), 3)) * (view.sigma
+                                                          + view.range_growth * r)[:, None]
+    n_true = len(seen)
+    n_false = int(round(n_true * o / (1.0 - o)))
+    n_wrong = min(int(round(n_false * wt)), n_true) if len(names) > 1 else 0
+    n_random = n_false - n_wrong
+    # wrong type: a visible landmark reported with another type
+    pick = g.choice(seen, n_wrong, replace=True) if n_wrong else np.empty(0, int)
+    shift = g.integers(1, len(names), n_wrong) if n_wrong else np.empty(0, int)
+    wrong_types = (tid[pick] + shift) % len(names)
+    wrong_pts = body[pick] + g.normal(size=(n_wrong, 3)) * view.sigma
+    rand_types = g.integers(0, len(names), n_random)
+    rand_pts = view.random_points(n_random, g)
+    types = np.r_[tid[seen], wrong_types, rand_types]
+    points = np.vstack([noisy, wrong_pts, rand_pts]).reshape(-1, 3)
+    landmark = np.r_[seen, np.full(n_false, -1)]
+    kind = np.array(["landmark"] * n_true + ["wrong_type"] * n_wrong + ["random"] * n_random)
+    association = landmark.copy()
+    for i in np.flatnonzero(landmark < 0):
+        association[i] = g.choice(np.flatnonzero(tid == types[i]))
+    order = g.permutation(len(types))
+    data = np.c_[types[order], points[order]].astype(float).reshape(-1, 4)
+    return Detections3D(data, names, T.copy(), landmark[order], association[order], kind[order])

@@ -1,0 +1,221 @@
+"""Rigid motions of space from point correspondences: batched Kabsch and its space.
+
+The closed-form least-squares alignment of Kabsch, Arun et al. and Umeyama
+(without scale): for centred point sets the cross-covariance ``H = sum_k w_k
+(p_k - p_bar) (q_k - q_bar)^T = U S V^T`` gives ``R = V diag(1, 1, d) U^T``
+with ``d = sign(det(V U^T))``, the *reflection fix*: without it a (nearly)
+planar or noisy set can come out mirrored, ``det R = -1``. Then ``t = q_bar -
+R p_bar``. Convention: ``q = R p + t``; a pose ``T_world_body`` maps body
+points ``p`` to world points ``q``.
+
+:class:`Correspondence3DSpace` is the hypothesis space of putative point
+correspondences ``(p, q)``: every triplet gives one pose, after two cheap
+checks (the triplet is not near-collinear, and its three pairwise distances
+agree in both frames, as a rigid motion preserves them).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .._validation import check_array, check_points, check_positive
+from ..geometry.se3 import SE3
+from .base import HypothesisSpace
+
+__all__ = ["kabsch", "min_altitude", "Correspondence3DSpace", "pose_to_dict", "pose_manifold"]
+
+#: Reference points for ``metric="point_set"`` when none are given: +-3 m on each axis.
+DEFAULT_REFERENCE_POINTS = 3.0 * np.vstack([np.eye(3), -np.eye(3)])
+
+
+def kabsch(source, target, weights=None):
+    """Least-squares rotations and translations ``target ~ R source + t``, batched.
+
+    Parameters
+    ----------
+    source, target : ndarray of shape (..., K, 3)
+        Corresponding points, ``K >= 3`` (fewer do not fix a rotation).
+    weights : ndarray of shape (..., K), optional
+        Non-negative weights (default: equal).
+
+    Returns
+    -------
+    R : ndarray of shape (..., 3, 3)
+        Proper rotations (``det R = +1``, reflection fixed).
+    t : ndarray of shape (..., 3)
+
+    Examples
+    --------
+    >>> from clap_unified.geometry import so3_exp
+    >>> R0 = so3_exp([0.1, -0.2, 0.3])
+    >>> p = np.array([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 2.0, 0.0], [0.0, 0.0, 3.0]])
+    >>> R, t = kabsch(p, p @ R0.T + [1.0, 2.0, 3.0])
+    >>> bool(np.allclose(R, R0)), t.round(6).tolist()
+    (True, [1.0, 2.0, 3.0])
+    """
+    P = check_array(source, "source", shape=(Ellipsis, None, 3))
+    Q = check_array(target, "target", shape=(Ellipsis, None, 3))
+    if P.shape != Q.shape:
+        raise ValueError(f"target: expected the shape of source {P.shape}, got {Q.shape}")
+    if P.shape[-2] < 3:
+        raise ValueError(f"source: need at least 3 points per set, got {P.shape[-2]}")
+    if weights is None:
+        w = np.full(P.shape[:-1], 1.0 / P.shape[-2])
+    else:
+        w = check_array(weights, "weights", shape=P.shape[:-1])
+        total = w.sum(axis=-1, keepdims=True)
+        if np.any(w < 0) or np.any(total <= 0):
+            raise ValueError("weights: expected non-negative weights with a positive sum")
+        w = w / total
+    cp = np.einsum("...k,...ki->...i", w, P)
+    cq = np.einsum("...k,...ki->...i", w, Q)
+    H = np.einsum("...k,...ki,...kj->...ij", w, P - cp[..., None, :], Q - cq[..., None, :])
+    U, _, Vt = np.linalg.svd(H)
+    V = np.swapaxes(Vt, -1, -2)
+    d = np.sign(np.linalg.det(V @ np.swapaxes(U, -1, -2)))
+    d = np.where(d == 0, 1.0, d)
+    V[..., :, 2] *= d[..., None]
+    R = V @ np.swapaxes(U, -1, -2)
+    t = cq - np.einsum("...ij,...j->...i", R, cp)
+    return R, t
+
+
+def min_altitude(triangles) -> np.ndarray:
+    """Smallest altitude of triangles ``(..., 3, 3)``: twice the area over the longest side.
+
+    Zero for collinear (or coincident) points; a triplet whose smallest
+    altitude is a few centimetres does not fix the rotation about its line.
+
+    Examples
+    --------
+    >>> tri = np.array([[[0.0, 0, 0], [4.0, 0, 0], [2.0, 0.5, 0]],
+    ...                 [[0.0, 0, 0], [1.0, 0, 0], [2.0, 0.0, 0]]])
+    >>> min_altitude(tri).round(6).tolist()
+    [0.5, 0.0]
+    """
+    T = np.asarray(triangles, dtype=float)
+    e = T[..., [1, 2, 0], :] - T  # sides 01, 12, 20
+    area2 = np.linalg.norm(np.cross(e[..., 0, :], -e[..., 2, :]), axis=-1)
+    longest = np.linalg.norm(e, axis=-1).max(axis=-1)
+    return np.divide(area2, longest, out=np.zeros_like(area2), where=longest > 0)
+
+
+def pose_manifold(angle_weight: float, metric: str, reference_points) -> SE3:
+    """The SE(3) a pose space clusters in (default point-set reference when none is given)."""
+    if metric == "point_set" and reference_points is None:
+        reference_points = DEFAULT_REFERENCE_POINTS
+    return SE3(angle_weight, metric=metric, reference_points=reference_points)
+
+
+def pose_to_dict(model) -> dict:
+    """``{"rotation": 3 x 3 row-major, "translation": [x, y, z]}`` of a 4 x 4 pose."""
+    T = np.asarray(model, dtype=float)
+    return {"rotation": T[:3, :3].tolist(), "translation": T[:3, 3].tolist()}
+
+
+class Correspondence3DSpace(HypothesisSpace):
+    """SE(3) poses from triplets of putative 3D point correspondences.
+
+    Data are rows ``(px, py, pz, qx, qy, qz)``: a point ``p`` in the body
+    frame and the world point ``q`` it is believed to be. Models are poses
+    ``T_world_body`` (``q = R p + t``) as 4 x 4 matrices.
+
+    Parameters
+    ----------
+    distance_tolerance : float
+        A triplet is solved only if each of its three pairwise distances
+        agrees within this (metres) between the frames.
+    min_altitude : float
+        A triplet whose smallest triangle altitude (in either frame) is below
+        this (metres) is near-collinear and rejected.
+    angle_weight : float
+        lambda of the SE(3) distance, metres per radian.
+    metric : {"relative", "lie", "point_set"}
+        Distance between poses (see :class:`~clap_unified.geometry.SE3`):
+        the default ``sqrt(e_t^2 + lambda^2 e_r^2)`` is a true metric and
+        several times cheaper than the Lie-log one.
+    reference_points : ndarray of shape (P, 3), optional
+        Body-frame points of the ``point_set`` metric (default: +-3 m on each axis).
+    inlier_threshold : float
+        Default data inlier threshold, metres.
+
+    Examples
+    --------
+    >>> from clap_unified.geometry import so3_exp
+    >>> rng = np.random.default_rng(0)
+    >>> p = rng.uniform(-3, 3, (6, 3))
+    >>> q = p @ so3_exp([0.0, 0.0, 0.5]).T + [1.0, 0.0, 0.0]
+    >>> q[5] += 2.0                                  # one wrong correspondence
+    >>> space = Correspondence3DSpace()
+    >>> models, owner = space.solve_minimal(np.c_[p, q], np.array([[0, 1, 2], [0, 1, 5]]))
+    >>> owner.tolist(), models[0][:3, 3].round(6).tolist()   # the wrong triplet is rejected
+    ([0], [1.0, 0.0, 0.0])
+    """
+
+    min_samples = 3
+    model_shape = (4, 4)
+    name = "rigid3d"
+
+    def __init__(self, *, distance_tolerance: float = 0.2, min_altitude: float = 0.1,
+                 angle_weight: float = 2.0, metric: str = "relative", reference_points=None,
+                 inlier_threshold: float = 0.15):
+        self.distance_tolerance = check_positive(distance_tolerance, "distance_tolerance")
+        self.min_altitude = check_positive(min_altitude, "min_altitude", allow_zero=True)
+        self.inlier_threshold = check_positive(inlier_threshold, "inlier_threshold")
+        self._manifold = pose_manifold(angle_weight, metric, reference_points)
+
+    def __repr__(self) -> str:
+        return (f"Correspondence3DSpace(tol={self.distance_tolerance:g}, "
+                f"manifold={self._manifold!r})")
+
+    @property
+    def manifold(self) -> SE3:
+        return self._manifold
+
+    def check_data(self, data) -> np.ndarray:
+        return check_points(data, "correspondences", dim=6, min_count=self.min_samples)
+
+    def solve_minimal(self, data, samples):
+        """One Kabsch pose per triplet that passes the collinearity and distance checks."""
+        data = np.asarray(data, dtype=float)
+        P, Q = data[samples, :3], data[samples, 3:]  # (S, 3, 3)
+        dP = np.linalg.norm(P[:, [1, 2, 0]] - P, axis=-1)
+        dQ = np.linalg.norm(Q[:, [1, 2, 0]] - Q, axis=-1)
+        ok = np.all(np.abs(dP - dQ) <= self.distance_tolerance, axis=1)
+        ok &= (min_altitude(P) >= self.min_altitude) & (min_altitude(Q) >= self.min_altitude)
+        owner = np.flatnonzero(ok)
+        if len(owner) == 0:
+            return np.empty((0, 4, 4)), owner
+        R, t = kabsch(P[owner], Q[owner])
+        return SE3.from_rt(R, t), owner
+
+    def residuals(self, models, data) -> np.ndarray:
+        """``|R p + t - q|`` for every model and correspondence, shape ``(H, N)``."""
+        data = np.asarray(data, dtype=float)
+        T = np.asarray(models, dtype=float).reshape(-1, 4, 4)
+        moved = np.einsum("hij,nj->hni", T[:, :3, :3], data[:, :3]) + T[:, None, :3, 3]
+        return np.linalg.norm(moved - data[None, :, 3:], axis=-1)
+
+    def refit(self, data, weights=None, initial=None):
+        """Weighted Kabsch on all the given correspondences; None when degenerate."""
+        data = np.asarray(data, dtype=float)
+        return _refit(data[:, :3], data[:, 3:], weights, self.min_altitude)
+
+    def model_to_dict(self, model) -> dict:
+        return pose_to_dict(model)
+
+    def default_residual_threshold(self, data) -> float:
+        return self.inlier_threshold
+
+
+def _refit(source, target, weights, min_alt):
+    """Weighted Kabsch with a degeneracy check (None below 3 points or when collinear)."""
+    if len(source) < 3:
+        return None
+    w = np.ones(len(source)) if weights is None else np.asarray(weights, dtype=float)
+    centred = source - (w @ source) / w.sum()
+    sv = np.linalg.svd(centred, compute_uv=False)
+    if sv[1] / np.sqrt(len(source)) < 0.5 * max(min_alt, 1e-9):  # collinear spread
+        return None
+    R, t = kabsch(source, target, w)
+    return SE3.from_rt(R, t)
