@@ -26,6 +26,7 @@ __all__ = ["main", "COMMANDS"]
 COMMANDS = [
     "clap_unified.cli",
     "clap_unified.localization.cli",
+    "clap_unified.localization.cli3d",
 ]
 
 
