@@ -181,9 +181,10 @@ class Correspondence3DSpace(HypothesisSpace):
         P, Q = data[samples, :3], data[samples, 3:]  # (S, 3, 3)
         dP = np.linalg.norm(P[:, [1, 2, 0]] - P, axis=-1)
         dQ = np.linalg.norm(Q[:, [1, 2, 0]] - Q, axis=-1)
-        ok = np.all(np.abs(dP - dQ) <= self.distance_tolerance, axis=1)
-        ok &= (min_altitude(P) >= self.min_altitude) & (min_altitude(Q) >= self.min_altitude)
-        owner = np.flatnonzero(ok)
+        owner = np.flatnonzero(np.all(np.abs(dP - dQ) <= self.distance_tolerance, axis=1))
+        # the cheap distance check first: the collinearity check sees its survivors only
+        owner = owner[(min_altitude(P[owner]) >= self.min_altitude)
+                      & (min_altitude(Q[owner]) >= self.min_altitude)]
         if len(owner) == 0:
             return np.empty((0, 4, 4)), owner
         R, t = kabsch(P[owner], Q[owner])
