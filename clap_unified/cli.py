@@ -27,6 +27,7 @@ COMMANDS = [
     "clap_unified.cli",
     "clap_unified.localization.cli",
     "clap_unified.localization.cli3d",
+    "clap_unified.imaging.cli",
 ]
 
 
@@ -48,6 +49,9 @@ def register(sub) -> None:
     line.add_argument("--hypotheses", type=int, default=1000,
                       help="hypotheses (CLAP) or trials (RANSAC); default 1000")
     line.set_defaults(run=_fit_line)
+    from .imaging.cli import add_fit_homography
+
+    add_fit_homography(kinds)
 
 
 def _parser() -> argparse.ArgumentParser:

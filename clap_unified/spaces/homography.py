@@ -12,7 +12,7 @@ import numpy as np
 from .._validation import check_choice, check_points
 from .base import HypothesisSpace
 
-__all__ = ["HomographySpace", "dlt", "normalise_points"]
+__all__ = ["HomographySpace", "dlt", "four_point_homography", "normalise_points"]
 
 #: Minimal-sample homographies with |det H| / prod_i |row_i| at or below this are rejected.
 SINGULAR_RATIO = 1e-10
@@ -81,9 +81,51 @@ def dlt(src, dst, weights=None) -> np.ndarray:
     if weights is not None:
         sw = np.sqrt(np.asarray(weights, dtype=float))
         A = A * np.concatenate([sw, sw], axis=-1)[..., None]
-    _, _, vt = np.linalg.svd(A, full_matrices=True)
+    # the null vector is the last right singular vector; the thin SVD has it
+    # whenever there are at least 9 rows (and never builds the 2N x 2N U)
+    _, _, vt = np.linalg.svd(A, full_matrices=A.shape[-2] < 9)
     Hn = vt[..., -1, :].reshape(*A.shape[:-2], 3, 3)
     H = np.linalg.inv(Td) @ Hn @ Ts
+    return H / np.linalg.norm(H, axis=(-2, -1), keepdims=True)
+
+
+def _basis_to_points(p):
+    """``(S, 3, 3)`` matrices mapping the projective basis onto the 4 points ``(S, 4, 2)``."""
+    ph = np.concatenate([p, np.ones((*p.shape[:-1], 1))], axis=-1)  # (S, 4, 3)
+    M = np.swapaxes(ph[:, :3], 1, 2)  # columns p1, p2, p3
+    lam = np.linalg.solve(M, ph[:, 3, :, None])[..., 0]
+    return M * lam[:, None, :]
+
+
+def four_point_homography(src, dst) -> np.ndarray:
+    """Exact homographies through 4 correspondences, batched, in closed form.
+
+    ``H = B A^-1`` where ``A`` (``B``) maps the projective basis onto the four
+    source (destination) points: two batched 3 x 3 solves per sample instead
+    of an SVD of the 8 x 9 DLT matrix. No three points of a sample may be
+    collinear (check first).
+
+    Parameters
+    ----------
+    src, dst : ndarray of shape (S, 4, 2)
+
+    Returns
+    -------
+    ndarray of shape (S, 3, 3)
+        Scaled to unit Frobenius norm.
+
+    Examples
+    --------
+    >>> H = np.array([[1.0, 0.2, 3.0], [0.1, 0.9, -2.0], [1e-3, 2e-3, 1.0]])
+    >>> src = np.array([[[0.0, 0.0], [100.0, 0.0], [100.0, 80.0], [0.0, 80.0]]])
+    >>> h = np.c_[src[0], np.ones(4)] @ H.T
+    >>> est = four_point_homography(src, (h[:, :2] / h[:, 2:])[None])[0]
+    >>> np.allclose(est / est[2, 2], H)
+    True
+    """
+    A = _basis_to_points(np.asarray(src, dtype=float))
+    B = _basis_to_points(np.asarray(dst, dtype=float))
+    H = B @ np.linalg.inv(A)
     return H / np.linalg.norm(H, axis=(-2, -1), keepdims=True)
 
 
@@ -120,6 +162,35 @@ class HomographySpace(HypothesisSpace):
         self.normalization = check_choice(normalization, "normalization", {"h33", "det"})
         self._manifold = None
 
+    @classmethod
+    def for_data(cls, matches, *, residual: str = "transfer", metric: str = "lie_linear",
+                 normalization: str = "det", screen: float = 1.0) -> HomographySpace:
+        """A space that compares hypotheses in the normalised frame of ``matches``.
+
+        The manifold is a :class:`~clap_unified.geometry.homography_frame.HomographyInFrame`
+        with the Hartley normalisations ``T1`` of the source and ``T2`` of the
+        destination points: hypotheses are compared as ``T2 H T1^-1`` (entries
+        of order one, fast all-pairs distances), while models, residuals and
+        refits stay in pixels.
+
+        Examples
+        --------
+        >>> rng = np.random.default_rng(0)
+        >>> src = rng.uniform(0, 640, (50, 2))
+        >>> space = HomographySpace.for_data(np.c_[src, src + 5.0])
+        >>> space.manifold
+        HomographyInFrame(metric='lie_linear', normalization='det', screen=1)
+        """
+        from ..geometry.homography_frame import HomographyInFrame
+
+        data = check_points(matches, "matches", dim=4, min_count=cls.min_samples)
+        _, T1 = normalise_points(data[:, :2])
+        _, T2 = normalise_points(data[:, 2:])
+        space = cls(residual=residual, normalization="h33")
+        space._manifold = HomographyInFrame(T1, T2, metric=metric, normalization=normalization,
+                                            screen=screen)
+        return space
+
     def __repr__(self) -> str:
         return f"HomographySpace(residual={self.residual!r}, normalization={self.normalization!r})"
 
@@ -135,10 +206,15 @@ class HomographySpace(HypothesisSpace):
         return check_points(data, "matches", dim=4, min_count=self.min_samples)
 
     def solve_minimal(self, data, samples):
-        src = data[samples][..., :2]
-        dst = data[samples][..., 2:]
+        # closed-form 4-point solutions in the data's Hartley frame, mapped back
+        sn, T1 = normalise_points(data[:, :2])
+        dn, T2 = normalise_points(data[:, 2:])
+        src, dst = sn[samples], dn[samples]
         ok = ~(_has_collinear_triple(src, 1e-9) | _has_collinear_triple(dst, 1e-9))
-        H = dlt(src[ok], dst[ok]) if np.any(ok) else np.empty((0, 3, 3))
+        if np.any(ok):
+            H = np.linalg.inv(T2) @ four_point_homography(src[ok], dst[ok]) @ T1
+        else:
+            H = np.empty((0, 3, 3))
         h33 = H[:, 2, 2]
         good = np.abs(h33) > 1e-12 * np.abs(H).max(axis=(1, 2))
         H = H[good] / h33[good, None, None]

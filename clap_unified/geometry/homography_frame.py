@@ -1,0 +1,199 @@
+"""Homographies compared in a normalised image frame, with fast all-pairs distances.
+
+Pixel homographies mix entries of very different sizes (translations in
+hundreds of pixels, perspective terms around ``1e-4``), so their relative
+matrices ``H1^-1 H2`` are badly balanced and wild outlier hypotheses push the
+matrix logarithm onto its slow fallbacks. :class:`HomographyInFrame` takes
+pixel homographies in and out but measures them in the frame of the data:
+``Hn = T2 H T1^-1`` with the Hartley normalisations ``T1`` (source points) and
+``T2`` (destination points), where every entry is of order one.
+
+Distances (``metric``):
+
+* ``"lie"``: ``||log(Hn1^-1 Hn2)||_F`` of the normalised frame. All pairs are
+  first screened with the first-order value ``||Hn1^-1 Hn2 - I||_F``, which
+  costs two small matrix products for all pairs at once; the exact
+  logarithm is computed only for pairs below ``screen`` (the only ones that
+  can sit in one cluster), the others keep the first-order value (both are
+  large for them). ``screen=np.inf`` computes every logarithm.
+* ``"lie_linear"``: the first-order Lie distance, the symmetrised
+  ``(||Hn1^-1 Hn2 - I||_F + ||Hn2^-1 Hn1 - I||_F) / 2``. It equals
+  ``||log(Hn1^-1 Hn2)||_F`` up to terms of second order in the distance
+  (``log(I + X) = X - X^2 / 2 + ...``), so it ranks nearby candidates like the
+  Lie distance, and for all pairs it is two 9-column matrix products: no
+  logarithm at all. Far pairs (outlier candidates) come out far under both.
+* ``"frobenius"``: ``||Hn1 - Hn2||_F`` of the normalised-frame matrices, one
+  Gram matrix product for all pairs.
+
+Neither is a true metric (see :func:`~clap_unified.geometry.homography.lie_distance`).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .._validation import check_array, check_choice
+from ._matrix import expm, logm
+from .homography import Homography, _check_invertible, normalise_h33
+
+__all__ = ["HomographyInFrame"]
+
+
+def _normalise_det(H) -> np.ndarray:
+    """Scale to determinant 1 (real cube root, so the sign is fixed too)."""
+    return H / np.cbrt(np.linalg.det(H))[..., None, None]
+
+
+def _first_order(Ainv, B) -> np.ndarray:
+    """``out[i, j] = ||Ainv_i B_j - I||_F`` for all pairs, by one matrix product.
+
+    ``||Ainv_i B_j - I||^2 = <Ainv_i^T Ainv_i, B_j B_j^T> - 2 tr(Ainv_i B_j) + 3``.
+    """
+    G = np.matmul(np.swapaxes(Ainv, 1, 2), Ainv).reshape(len(Ainv), 9)
+    K = np.matmul(B, np.swapaxes(B, 1, 2)).reshape(len(B), 9)
+    left = np.concatenate([G, -2.0 * Ainv.reshape(len(Ainv), 9)], axis=1)
+    right = np.concatenate([K, np.swapaxes(B, 1, 2).reshape(len(B), 9)], axis=1)
+    out = left @ right.T
+    out += 3.0
+    np.maximum(out, 0.0, out=out)
+    return np.sqrt(out, out=out)
+
+
+class HomographyInFrame(Homography):
+    """Pixel homographies measured in a normalised frame (``Hn = T2 H T1^-1``).
+
+    Parameters
+    ----------
+    T1, T2 : ndarray of shape (3, 3)
+        Invertible normalising transforms of the source and destination image
+        (e.g. Hartley normalisations of the matched points, or a scaling by
+        the image size).
+    metric : {"lie", "lie_linear", "frobenius"}
+        Distance in the normalised frame (see the module docstring).
+    normalization : {"det", "h33"}
+        Representative of the normalised-frame matrices: ``"det"`` (SL(3),
+        defined for every invertible matrix, the default) or ``"h33"``.
+        Points given to and returned by every method are pixel homographies
+        with ``H33 = 1``.
+    screen : float
+        ``"lie"`` metric: exact logarithms only for pairs with
+        ``||Hn1^-1 Hn2 - I||_F < screen``.
+
+    Examples
+    --------
+    >>> T = np.diag([1 / 320, 1 / 240, 1.0])
+    >>> g = HomographyInFrame(T, T)
+    >>> H = np.array([[1.0, 0.0, 3.2], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]])
+    >>> print(f"{float(g.distance(np.eye(3), H)):.4f}")
+    0.0100
+    >>> D = g.pairwise_distance(np.stack([np.eye(3), H, H]))
+    >>> D.round(4).tolist()
+    [[0.0, 0.01, 0.01], [0.01, 0.0, 0.0], [0.01, 0.0, 0.0]]
+    """
+
+    def __init__(self, T1, T2, *, metric: str = "lie", normalization: str = "det",
+                 screen: float = 1.0):
+        super().__init__(normalization=normalization)
+        self.T1 = check_array(T1, "T1", shape=(3, 3))
+        self.T2 = check_array(T2, "T2", shape=(3, 3))
+        _check_invertible(self.T1, "T1")
+        _check_invertible(self.T2, "T2")
+        self.T1inv = np.linalg.inv(self.T1)
+        self.T2inv = np.linalg.inv(self.T2)
+        self.metric = check_choice(metric, "metric", {"lie", "lie_linear", "frobenius"})
+        self.screen = float(screen)
+        if not self.screen > 0:  # np.inf allowed: every logarithm exact
+            raise ValueError(f"screen: expected a positive number or inf, got {screen!r}")
+
+    def __repr__(self) -> str:
+        return (f"HomographyInFrame(metric={self.metric!r}, "
+                f"normalization={self.normalization!r}, screen={self.screen:g})")
+
+    # ------------------------------------------------------------ frames
+    def projection(self, points, name: str = "H") -> np.ndarray:
+        """Pixel homographies scaled to ``H33 = 1``."""
+        return normalise_h33(points, name)
+
+    def to_frame(self, H, name: str = "H") -> np.ndarray:
+        """Normalised-frame representatives ``T2 H T1^-1`` of pixel homographies."""
+        Hn = self.T2 @ check_array(H, name, shape=(Ellipsis, 3, 3)) @ self.T1inv
+        _check_invertible(Hn, name)
+        return _normalise_det(Hn) if self.normalization == "det" else normalise_h33(Hn, name)
+
+    def from_frame(self, Hn, name: str = "H") -> np.ndarray:
+        """Pixel homographies ``T2^-1 Hn T1`` with ``H33 = 1``."""
+        return normalise_h33(self.T2inv @ np.asarray(Hn) @ self.T1, name)
+
+    # ------------------------------------------------------------ chart
+    def log(self, point, base_point) -> np.ndarray:
+        """``vee(logm(Bn^-1 Hn))`` in the normalised frame."""
+        A = self.to_frame(point, "point")
+        B = self.to_frame(base_point, "base_point")
+        return self.vee(logm(np.matmul(np.linalg.inv(B), A)))
+
+    def exp(self, tangent, base_point) -> np.ndarray:
+        """Pixel homography ``T2^-1 Bn expm(xi) T1``."""
+        B = self.to_frame(base_point, "base_point")
+        E = np.matmul(B, expm(self.hat(tangent)))
+        return self.from_frame(E.real if np.iscomplexobj(E) else E)
+
+    def reference_point(self) -> np.ndarray:
+        """The pixel homography whose normalised-frame matrix is the identity."""
+        return self.from_frame(np.eye(3))
+
+    # ------------------------------------------------------------ distances
+    def distance(self, point_a, point_b) -> np.ndarray:
+        A = self.to_frame(point_a, "point_a")
+        B = self.to_frame(point_b, "point_b")
+        if self.metric == "frobenius":
+            D = A - B
+            return np.sqrt(np.einsum("...ij,...ij->...", D, D))
+        M = np.matmul(np.linalg.inv(A), B)
+        first = M - np.eye(3)
+        d = np.sqrt(np.einsum("...ij,...ij->...", first, first))
+        if self.metric == "lie_linear":
+            back = np.matmul(np.linalg.inv(B), A) - np.eye(3)
+            return 0.5 * (d + np.sqrt(np.einsum("...ij,...ij->...", back, back)))
+        near = d < self.screen
+        if np.any(near):
+            Mb = np.broadcast_to(M, (*d.shape, 3, 3))
+            L = logm(Mb[near])
+            L = np.abs(L) if np.iscomplexobj(L) else L
+            d = np.array(d, dtype=float, copy=True)
+            d[near] = np.sqrt(np.einsum("...ij,...ij->...", L, L))
+        return d
+
+    def pairwise_distance(self, points_a, points_b=None) -> np.ndarray:
+        """All ``(N, M)`` distances; screened products instead of ``N M`` logarithms."""
+        A = self.to_frame(np.asarray(points_a, dtype=float), "points_a")
+        B = A if points_b is None else self.to_frame(np.asarray(points_b, dtype=float),
+                                                     "points_b")
+        if A.ndim != 3 or B.ndim != 3:
+            raise ValueError(f"points: expected shape (N, 3, 3), got {A.shape} and {B.shape}")
+        if self.metric == "frobenius":
+            a, b = A.reshape(len(A), 9), B.reshape(len(B), 9)
+            sq = (a * a).sum(1)[:, None] + (b * b).sum(1)[None] - 2.0 * a @ b.T
+            out = np.sqrt(np.maximum(sq, 0.0))
+            if points_b is None:
+                np.fill_diagonal(out, 0.0)
+            return out
+        Ainv = np.linalg.inv(A)
+        out = _first_order(Ainv, B)
+        if self.metric == "lie_linear":
+            back = out.T if points_b is None else _first_order(np.linalg.inv(B), A).T
+            out = 0.5 * (out + back)
+            if points_b is None:
+                np.fill_diagonal(out, 0.0)
+            return out
+        if points_b is None:
+            np.fill_diagonal(out, 0.0)
+            i, j = np.nonzero(np.triu(out < self.screen, 1))
+        else:
+            i, j = np.nonzero(out < self.screen)
+        if len(i):
+            L = logm(np.matmul(Ainv[i], B[j]))
+            L = np.abs(L) if np.iscomplexobj(L) else L
+            out[i, j] = np.sqrt(np.einsum("...ij,...ij->...", L, L))
+            if points_b is None:
+                out[j, i] = out[i, j]
+        return out

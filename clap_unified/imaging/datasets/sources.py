@@ -1,0 +1,126 @@
+"""Finding dataset files: local mirror, download cache, public source; sha256 checked.
+
+A dataset is described by a manifest ``data/<dataset>/manifest.json`` in the
+repository: ``base_url`` (public source), ``files`` (relative path ->
+sha256). A file is looked up, in order, in
+
+1. the mirror: ``$CLAP_UNIFIED_DATA/<mirror_dir>`` when that environment
+   variable is set, else ``../shared/data/<mirror_dir>`` next to the
+   repository root;
+2. the download cache ``$CLAP_UNIFIED_CACHE/<mirror_dir>`` (default
+   ``~/.cache/clap_unified/<mirror_dir>``);
+3. the public source ``base_url + path``, downloaded into the cache.
+
+Every file is checked against its sha256 before use; a missing file raises
+``FileNotFoundError`` (an ``OSError``) saying where to put it, a corrupt one
+``ValueError``.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import os
+import urllib.request
+from functools import cache
+from pathlib import Path
+
+__all__ = ["DATA_DIR", "cache_dir", "fetch", "load_manifest", "mirror_dir", "sha256"]
+
+#: The repository's ``data/`` folder (manifests).
+DATA_DIR = Path(__file__).resolve().parents[3] / "data"
+
+#: Seconds before a download attempt gives up.
+TIMEOUT = 20.0
+
+
+def sha256(path) -> str:
+    """Hex sha256 of a file."""
+    h = hashlib.sha256()
+    with open(path, "rb") as f:
+        for block in iter(lambda: f.read(1 << 20), b""):
+            h.update(block)
+    return h.hexdigest()
+
+
+@cache
+def load_manifest(dataset: str) -> dict:
+    """The manifest ``data/<dataset>/manifest.json`` as a dict."""
+    path = DATA_DIR / dataset / "manifest.json"
+    if not path.is_file():
+        raise FileNotFoundError(f"dataset {dataset!r}: no manifest at {path}")
+    return json.loads(path.read_text())
+
+
+def mirror_dir(name: str) -> Path:
+    """Where a local mirror of ``name`` is looked for (may not exist)."""
+    env = os.environ.get("CLAP_UNIFIED_DATA")
+    base = Path(env) if env else DATA_DIR.parent.parent / "shared" / "data"
+    return base / name
+
+
+def cache_dir(name: str) -> Path:
+    """Download cache of ``name`` (may not exist)."""
+    env = os.environ.get("CLAP_UNIFIED_CACHE")
+    base = Path(env) if env else Path.home() / ".cache" / "clap_unified"
+    return base / name
+
+
+def _download(url: str, target: Path) -> None:
+    target.parent.mkdir(parents=True, exist_ok=True)
+    tmp = target.with_suffix(target.suffix + ".part")
+    with urllib.request.urlopen(url, timeout=TIMEOUT) as r, open(tmp, "wb") as f:
+        f.write(r.read())
+    tmp.replace(target)
+
+
+def fetch(dataset: str, relpath: str, *, download: bool = True) -> Path:
+    """Path of a verified local copy of ``relpath`` of ``dataset``.
+
+    Parameters
+    ----------
+    dataset : str
+        Manifest folder under ``data/`` (e.g. ``"homography"``); its
+        ``mirror_dir`` key (default the same name) names the mirror folder.
+    relpath : str
+        A path listed in the manifest's ``files``.
+    download : bool
+        Try the public source when the file is neither mirrored nor cached.
+
+    Raises
+    ------
+    FileNotFoundError
+        Not available locally and not downloadable; the message lists the
+        places looked at and the URL.
+    ValueError
+        ``relpath`` is not in the manifest, or a copy fails its sha256 check.
+    """
+    man = load_manifest(dataset)
+    files = man["files"]
+    if relpath not in files:
+        raise ValueError(f"{dataset}: {relpath!r} is not in the manifest")
+    want = files[relpath]
+    name = man.get("mirror_dir", dataset)
+    places = [mirror_dir(name) / relpath, cache_dir(name) / relpath]
+    for p in places:
+        if p.is_file():
+            got = sha256(p)
+            if got != want:
+                raise ValueError(f"{p}: corrupt file (sha256 {got[:12]}..., expected "
+                                 f"{want[:12]}...); delete it or restore it from "
+                                 f"{man['base_url']}{relpath}")
+            return p
+    url = man["base_url"] + relpath
+    if download:
+        try:
+            _download(url, places[1])
+        except OSError as exc:
+            reason = f"download failed ({exc})"
+        else:
+            return fetch(dataset, relpath, download=False)
+    else:
+        reason = "downloads disabled"
+    raise FileNotFoundError(
+        f"{dataset}: {relpath} not found ({reason}). Put the file at {places[0]} "
+        f"(or set CLAP_UNIFIED_DATA to a folder holding {name}/), or at {places[1]}; "
+        f"source: {url}")

@@ -1,0 +1,135 @@
+"""``clap-unified stitch`` and ``clap-unified fit homography``."""
+
+import json
+
+import numpy as np
+import pytest
+
+from clap_unified.cli import main
+from clap_unified.imaging.datasets import load_vpg_set, make_synthetic_vpg
+from clap_unified.imaging.metrics import corner_error
+
+
+@pytest.fixture(scope="module")
+def synthetic_set(tmp_path_factory):
+    root = tmp_path_factory.mktemp("vpg")
+    [folder] = make_synthetic_vpg(root, scenes=["astronaut"], images_per_set=2, rng=0)
+    return load_vpg_set(folder)
+
+
+def run(args, capsys):
+    code = main(args)
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+@pytest.mark.parametrize("method", ["clap", "ransac", "magsac"])
+def test_stitch_writes_panorama_and_json(synthetic_set, tmp_path, capsys, method):
+    out = tmp_path / f"pano_{method}.png"
+    code, text, err = run(["stitch", str(synthetic_set.images[1]), str(synthetic_set.images[2]),
+                           "-o", str(out), "--method", method, "--seed", "1"], capsys)
+    assert code == 0 and err == ""
+    d = json.loads(text)
+    assert d["success"] is True and out.is_file()
+    assert d["inliers"] >= 0.5 * d["matches"] and d["matches"] > 100
+    H = np.array(d["H"])
+    assert H.shape == (3, 3) and H[2, 2] == 1.0
+    assert corner_error(H, synthetic_set.ground_truth(1, 2), (640, 480)) < 3.0
+    import cv2
+
+    pano = cv2.imread(str(out))
+    assert pano.shape[1] > 640 and pano.shape[0] >= 480
+
+
+@pytest.mark.parametrize("blend", ["none", "overwrite", "feather"])
+def test_every_blend(synthetic_set, tmp_path, capsys, blend):
+    out = tmp_path / f"pano_{blend}.png"
+    code, text, _ = run(["stitch", str(synthetic_set.images[1]), str(synthetic_set.images[2]),
+                         "-o", str(out), "--blend", blend], capsys)
+    assert code == 0 and json.loads(text)["blend"] == blend and out.is_file()
+
+
+def test_stitch_bad_input_exits_2_and_writes_nothing(synthetic_set, tmp_path, capsys):
+    out = tmp_path / "pano.png"
+    left = str(synthetic_set.images[1])
+    code, text, err = run(["stitch", left, str(tmp_path / "missing.jpg"), "-o", str(out)],
+                          capsys)
+    assert code == 2 and text == "" and "no such image file" in err and len(err.splitlines()) == 1
+    junk = tmp_path / "junk.jpg"
+    junk.write_bytes(b"not an image")
+    code, _, err = run(["stitch", left, str(junk), "-o", str(out)], capsys)
+    assert code == 2 and "not a readable image" in err
+    import cv2
+
+    blank = tmp_path / "blank.png"
+    cv2.imwrite(str(blank), np.full((480, 640, 3), 128, np.uint8))
+    code, _, err = run(["stitch", left, str(blank), "-o", str(out)], capsys)
+    assert code == 2 and "too few matches" in err
+    assert not out.exists() and sorted(p.name for p in tmp_path.iterdir()) == ["blank.png",
+                                                                             "junk.jpg"]
+
+
+def test_stitch_unrelated_images_fail_cleanly(tmp_path, capsys):
+    """Two unrelated photographs: whatever matches pass the ratio test, no broken output."""
+    import cv2
+    from skimage import data
+
+    a, b = tmp_path / "a.png", tmp_path / "b.png"
+    cv2.imwrite(str(a), data.astronaut()[..., ::-1])
+    cv2.imwrite(str(b), np.ascontiguousarray(data.coffee()[..., ::-1]))
+    out = tmp_path / "pano.png"
+    code, text, err = run(["stitch", str(a), str(b), "-o", str(out)], capsys)
+    assert code == 2 and text == "" and not out.exists()
+    assert "too few matches" in err or "estimate failed" in err or "plausible" in err
+
+
+def _matches_csv(tmp_path, synthetic_set, outliers=0.5, n=None, seed=0):
+    m = synthetic_set.correspondences[(1, 2)].copy()[:n]
+    rng = np.random.default_rng(seed)
+    k = int(outliers * len(m))
+    m[:k, 2:] = rng.uniform([0, 0], [640, 480], (k, 2))
+    f = tmp_path / "matches.csv"
+    np.savetxt(f, m, delimiter=",", header="x1,y1,x2,y2", comments="")
+    return f
+
+
+@pytest.mark.parametrize("method", ["clap", "ransac", "hough"])
+def test_fit_homography(synthetic_set, tmp_path, capsys, method):
+    f = _matches_csv(tmp_path, synthetic_set)
+    code, text, err = run(["fit", "homography", str(f), "--method", method, "--seed", "2"],
+                          capsys)
+    assert code == 0 and err == ""
+    d = json.loads(text)
+    assert set(d) >= {"H", "inliers", "success", "seconds"} and d["success"] is True
+    H = np.array(d["H"])
+    assert H[2, 2] == 1.0 and 55 <= d["inliers"] <= 62
+    assert corner_error(H, synthetic_set.ground_truth(1, 2), (640, 480)) < 2.0
+
+
+def test_fit_homography_is_deterministic(synthetic_set, tmp_path, capsys):
+    f = _matches_csv(tmp_path, synthetic_set)
+    outs = [json.loads(run(["fit", "homography", str(f), "--seed", "4"], capsys)[1])
+            for _ in range(2)]
+    for o in outs:
+        o.pop("seconds")
+    assert outs[0] == outs[1]
+
+
+def test_fit_homography_bad_input_exits_2(synthetic_set, tmp_path, capsys):
+    f = _matches_csv(tmp_path, synthetic_set, outliers=0.0, n=5)
+    code, text, err = run(["fit", "homography", str(f)], capsys)
+    assert code == 2 and text == "" and "too few matches" in err
+    g = tmp_path / "three.csv"
+    g.write_text("1,2,3\n4,5,6\n")
+    code, _, err = run(["fit", "homography", str(g)], capsys)
+    assert code == 2 and "expected 4 values" in err
+    code, _, err = run(["fit", "homography", str(tmp_path / "nope.csv")], capsys)
+    assert code == 2 and "no such file" in err
+
+
+def test_fit_homography_failed_estimate_exits_2(tmp_path, capsys):
+    rng = np.random.default_rng(0)
+    f = tmp_path / "random.csv"
+    np.savetxt(f, rng.uniform(0, 640, (60, 4)), delimiter=",")
+    code, text, err = run(["fit", "homography", str(f), "--method", "clap"], capsys)
+    assert code == 2 and text == "" and "estimate failed" in err
