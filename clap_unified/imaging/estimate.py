@@ -7,7 +7,8 @@ The paper's protocol (Sec. "Image Stitching Results") as defaults:
   (:meth:`HomographySpace.for_data`), robust centre by 5 rounds of trimming
   20 % (medoid by default; the Lie mean ``"karcher"``, the Lie median
   ``"median"``, ``"log_euclidean"`` and MAD rejection are options), then
-  optional re-estimation on the data inliers of the centre;
+  optional re-estimation on the data inliers of the centre (DLT refit, and
+  by default a polish by reweighted DLT, :mod:`.refinement`);
 * RANSAC: DLT on 4-samples, a fixed budget of 1000 iterations, refit on the
   inliers;
 * Hough: the same candidates voted into cells of the normalised-frame log
@@ -123,7 +124,7 @@ def clap_homography(matches, *, n_hypotheses: int = 400, rounds: int = 5,
                     discard_fraction: float = 0.2, centre: str = "medoid",
                     rejection: str = "trim", metric: str = "lie_linear", refit: bool = True,
                     residual_threshold: float = 3.0, bandwidth_quantile: float = 0.02,
-                    quality=None, hypotheses: HypothesisSet | None = None,
+                    quality=None, polish: bool = True, hypotheses: HypothesisSet | None = None,
                     rng=None) -> ConsensusResult:
     """CLAP in homography parameter space with the paper's protocol.
 
@@ -151,6 +152,10 @@ def clap_homography(matches, *, n_hypotheses: int = 400, rounds: int = 5,
     quality : ndarray of shape (N,), optional
         Per-match quality, lower is better: progressive sampling
         (:func:`homography_hypotheses`).
+    polish : bool
+        With ``refit``: finish with
+        :func:`~clap_unified.imaging.refinement.polish_homography` (reweighted
+        DLT on the inliers).
     hypotheses : HypothesisSet, optional
         Cluster these candidates instead of drawing new ones.
     rng : None, int or numpy.random.Generator
@@ -176,14 +181,30 @@ def clap_homography(matches, *, n_hypotheses: int = 400, rounds: int = 5,
     space = HomographySpace.for_data(data, metric=metric)
     if hypotheses is None:
         hypotheses = homography_hypotheses(space, data, n_hypotheses, quality=quality, rng=rng)
-    return clap(space, data, hypotheses=hypotheses, centre=centre, rejection=rejection,
-                rounds=rounds, discard_fraction=discard_fraction, refit=refit,
-                residual_threshold=residual_threshold, bandwidth_quantile=bandwidth_quantile)
+    res = clap(space, data, hypotheses=hypotheses, centre=centre, rejection=rejection,
+               rounds=rounds, discard_fraction=discard_fraction, refit=refit,
+               residual_threshold=residual_threshold, bandwidth_quantile=bandwidth_quantile)
+    return _polished(res, data, residual_threshold) if (refit and polish) else res
+
+
+def _polished(res, data, threshold):
+    """``res`` with its model polished on its inliers (a failure stays a failure)."""
+    from .refinement import polish_homography
+
+    if not res.success:
+        return res
+    res.model, res.inliers = polish_homography(res.model, data, threshold=threshold)
+    res.diagnostics["polished"] = True
+    return res
 
 
 def ransac_homography(matches, *, max_trials: int = 1000, residual_threshold: float = 3.0,
-                      hypotheses: HypothesisSet | None = None, rng=None) -> ConsensusResult:
+                      polish: bool = False, hypotheses: HypothesisSet | None = None,
+                      rng=None) -> ConsensusResult:
     """The paper's baseline: DLT + RANSAC, fixed 1000 iterations, refit on the inliers.
+
+    ``polish=True`` adds the same final polish as CLAP's default (not part of
+    the paper's baseline).
 
     Examples
     --------
@@ -196,8 +217,9 @@ def ransac_homography(matches, *, max_trials: int = 1000, residual_threshold: fl
     from ..ransac import ransac
 
     data = _check_matches(matches)
-    return ransac(HomographySpace(), data, hypotheses=hypotheses, max_trials=max_trials,
-                  residual_threshold=residual_threshold, refit=True, rng=rng)
+    res = ransac(HomographySpace(), data, hypotheses=hypotheses, max_trials=max_trials,
+                 residual_threshold=residual_threshold, refit=True, rng=rng)
+    return _polished(res, data, residual_threshold) if polish else res
 
 
 def hough_homography(matches, *, n_hypotheses: int = 400, cell_size: float = 0.05,

