@@ -173,3 +173,14 @@ def test_type_correspondences_and_open3d_run():
     res = localize3d(det.data, LAB, method="open3d", rng=0)
     e_t, e_r = pose_errors(res.model, det.truth)
     assert res and e_t < 0.05 and e_r < 1.0
+
+
+def test_cluster_members_index_the_given_candidates():
+    det = simulate_detections(LAB, TRAJ[7], outlier_ratio=0.6, rng=11)
+    space = LAB.space()
+    hyps = generate_hypotheses(space, det.data, 1000, rng=0)
+    res = localize3d(det.data, LAB, space=space, hypotheses=hyps)
+    members = res.clusters[0].members
+    assert res.support.shape == (len(hyps),) and res.support[members].all()
+    e_t, e_r = space.manifold.relative_error(res.clusters[0].model, hyps.models[members])
+    assert np.all(np.sqrt(e_t**2 + 4 * e_r**2) <= 2 * 0.15 + 1e-9)   # within 2 bandwidths

@@ -198,6 +198,8 @@ def localize3d(observations, landmarks, *, method: str = "clap", n_hypotheses: i
                 res = clap(space, data, hypotheses=candidates, bandwidth=bandwidth,
                            centre=centre, max_clusters=max_clusters, min_support=min_support,
                            residual_threshold=residual_threshold)
+                if prune:
+                    _index_into(res, keep, len(hypotheses))
             res.diagnostics["dense_candidates"] = len(candidates)
         else:
             res = ransac(space, data, hypotheses=hypotheses, max_trials=len(hypotheses),
@@ -205,6 +207,16 @@ def localize3d(observations, landmarks, *, method: str = "clap", n_hypotheses: i
         res.diagnostics["candidates"] = 0 if hypotheses is None else len(hypotheses)
     res.diagnostics["seconds"] = time.perf_counter() - t0
     return res
+
+
+def _index_into(res, keep, n_hypotheses):
+    """Make a result on ``hypotheses.subset(keep)`` refer to the full candidate set."""
+    for c in res.clusters:
+        c.members = keep[c.members]
+    if res.success:
+        support = np.zeros(n_hypotheses, bool)
+        support[keep[res.support]] = True
+        res.support = support
 
 
 def _open3d(space, data, threshold, iterations, rng):
@@ -292,6 +304,7 @@ def align_correspondences(correspondences, *, method: str = "clap", n_samples: i
                 res = clap(space, data, hypotheses=hyps.subset(keep), bandwidth=bandwidth,
                            centre=centre, min_support=min_support,
                            residual_threshold=residual_threshold)
+                _index_into(res, keep, len(hyps))
         res.diagnostics["candidates"] = len(hyps)
     res.diagnostics["seconds"] = time.perf_counter() - t0
     return res
