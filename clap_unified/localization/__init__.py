@@ -6,6 +6,11 @@ CLAP, RANSAC or Hough on the same candidates (:mod:`.localize2d`), a walking
 trajectory (:mod:`.trajectory`), an SE(2) EKF (:mod:`.ekf`), Monte Carlo
 localization (:mod:`.mcl`) and the tracking comparison (:mod:`.tracking`).
 
+3D (SE(3)): typed landmark maps and the MoCap lab (:mod:`.map3d`), a MoCap-like
+trajectory and detection simulator (:mod:`.scene3d`), one-frame 6-DoF localization by
+CLAP, RANSAC or Open3D (:mod:`.localize3d`) and the Open3D baselines, point clouds
+included (:mod:`.open3d_baselines`).
+
 The map modules are imported eagerly; the estimators, which build on
 :mod:`clap_unified.spaces` (whose landmark space needs the map), on first use.
 """
@@ -28,6 +33,11 @@ _LAZY = {
     "PoseEKF": "ekf", "ParticleFilter": "mcl",
     "TrackingRun": "tracking", "simulate_frames": "tracking", "track_clap_ekf": "tracking",
     "track_mcl": "tracking", "tracking_errors": "tracking", "tracking_summary": "tracking",
+    "LandmarkMap3D": "map3d", "lab_map": "map3d",
+    "View3D": "scene3d", "Detections3D": "scene3d", "mocap_trajectory": "scene3d",
+    "simulate_detections": "scene3d",
+    "LOCALIZE3D_METHODS": "localize3d", "localize3d": "localize3d",
+    "align_correspondences": "localize3d", "pose_errors": "localize3d",
 }
 
 

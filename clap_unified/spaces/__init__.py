@@ -2,16 +2,21 @@
 
 from .base import HypothesisSet, HypothesisSpace
 from .homography import HomographySpace, dlt
+from .landmarks3d import Landmark3DSpace
 from .lines import LineSpace
+from .rigid3d import Correspondence3DSpace, kabsch
 from .sampling import enumerate_hypotheses, generate_hypotheses, sample_subsets
 
 __all__ = [
+    "Correspondence3DSpace",
     "HypothesisSet",
     "HomographySpace",
     "HypothesisSpace",
+    "Landmark3DSpace",
     "LineSpace",
     "dlt",
     "enumerate_hypotheses",
     "generate_hypotheses",
+    "kabsch",
     "sample_subsets",
 ]
