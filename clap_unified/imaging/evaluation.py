@@ -9,13 +9,14 @@ and the median symmetric reprojection error on the ground-truth inliers.
 from __future__ import annotations
 
 import time
+from dataclasses import dataclass
 
 import numpy as np
 
 from .estimate import estimate_homography
 from .metrics import corner_error, lie_error, symmetric_reprojection_error
 
-__all__ = ["EVALUATED", "evaluate_pair", "summarise"]
+__all__ = ["EVALUATED", "PairMatches", "evaluate_pair", "summarise", "vpg_pair_matches"]
 
 #: Methods compared by default: label -> (estimator name, uses match quality).
 EVALUATED = {
@@ -77,10 +78,12 @@ def evaluate_pair(matches, H_gt, *, size=None, quality=None, gt_inliers=None, me
             res = estimate_homography(m, name, **kw)
             times.append(time.perf_counter() - t0)
         H = res.model if res.success else None
-        if H is not None:
+        if H is not None and gt_inliers.any():
             est_in = symmetric_reprojection_error(H, m) < 3.0
-            recall = float(np.mean(est_in[gt_inliers])) if gt_inliers.any() else np.nan
+            recall = float(np.mean(est_in[gt_inliers]))
             sre = float(np.median(symmetric_reprojection_error(H, m[gt_inliers])))
+        elif H is not None:
+            recall, sre = float("nan"), float("nan")
         else:
             recall, sre = 0.0, float("inf")
         rows.append({"method": label, "seconds": float(np.median(times)),
@@ -96,3 +99,35 @@ def summarise(rows, key: str) -> dict:
     for r in rows:
         out.setdefault(r["method"], []).append(r[key])
     return {k: float(np.median(v)) for k, v in out.items()}
+
+
+@dataclass
+class PairMatches:
+    """SIFT matches of one image pair of a VPG-layout set, with its ground truth."""
+
+    scene: str
+    pair: tuple
+    left: np.ndarray
+    right: np.ndarray
+    matches: np.ndarray
+    quality: np.ndarray
+    H_gt: np.ndarray | None
+
+
+def vpg_pair_matches(vpg_set, *, ratio: float = 0.75) -> list[PairMatches]:
+    """SIFT + ratio-test matches of every pair of a VPG-layout set.
+
+    ``H_gt`` is the DLT fit to the set's ground-truth correspondences
+    (``mNN-MM.txt``), or None for pairs without them (VPG S13-S36).
+    """
+    from .features import read_image, sift_matches
+
+    out = []
+    for i, j in vpg_set.pairs():
+        if i not in vpg_set.images or j not in vpg_set.images:
+            raise FileNotFoundError(f"{vpg_set.path}: images {i:02d} and {j:02d} are needed")
+        left, right = read_image(vpg_set.images[i]), read_image(vpg_set.images[j])
+        m, q = sift_matches(left, right, ratio=ratio)
+        H = vpg_set.ground_truth(i, j) if (i, j) in vpg_set.correspondences else None
+        out.append(PairMatches(vpg_set.name, (i, j), left, right, m, q, H))
+    return out

@@ -78,7 +78,7 @@ def symmetric_reprojection_error(H, matches) -> np.ndarray:
     >>> symmetric_reprojection_error(H, np.array([[0.0, 0.0, 1.0, 0.0], [0, 0, 3, 0]])).tolist()
     [0.0, 2.0]
     """
-    m = check_points(matches, "matches", dim=4)
+    m = check_points(matches, "matches", dim=4, min_count=0)
     if H is None:
         return np.full(len(m), np.inf)
     H = check_array(H, "H", shape=(3, 3))
