@@ -235,3 +235,32 @@ def test_vpg_root_says_where_to_put_the_files(tmp_path, monkeypatch):
     (tmp_path / "mirror" / "vpg" / "S01").mkdir(parents=True)
     assert vpg_root() == tmp_path / "mirror" / "vpg"
     assert json.loads((fetch_module.DATA_DIR / "vpg" / "manifest.json").read_text())["source"]
+
+
+@pytest.mark.parametrize("metric", ["lie", "lie_linear", "frobenius"])
+def test_frame_manifold_axioms(metric):
+    data = pair_matches(seed=9)
+    g = HomographySpace.for_data(data, metric=metric).manifold
+    hs = homography_hypotheses(HomographySpace.for_data(data), data, 30, rng=0)
+    a, b = hs.models[:10], hs.models[10:20]
+    np.testing.assert_allclose(g.distance(a, a), 0.0, atol=1e-9)
+    np.testing.assert_allclose(g.distance(a, b), g.distance(b, a), rtol=1e-6, atol=1e-9)
+    D = g.pairwise_distance(a, b)
+    np.testing.assert_allclose(D, g.distance(a[:, None], b[None]), rtol=1e-9, atol=1e-9)
+    # exp(log) round trip at a base, in pixel homographies with H33 = 1
+    v = g.log(b[0], a[0])
+    np.testing.assert_allclose(g.exp(v, a[0]), b[0] / b[0, 2, 2], rtol=1e-7, atol=1e-9)
+    # the mean of copies is the point
+    np.testing.assert_allclose(g.mean(np.stack([a[0]] * 4)), a[0] / a[0, 2, 2], atol=1e-9)
+
+
+def test_image_size_frame_clusters_like_the_data_frame():
+    data = pair_matches(seed=10)
+    space = HomographySpace.for_images(SIZE, SIZE)
+    from clap_unified.clap import clap
+
+    res = clap(space, data, hypotheses=homography_hypotheses(space, data, 400, rng=0),
+               bandwidth_quantile=0.02, residual_threshold=3.0)
+    assert corner_error(res.model, H_TRUE, SIZE) < 2.0
+    with pytest.raises(ValueError, match="size1"):
+        HomographySpace.for_images((0, 480), SIZE)

@@ -14,8 +14,9 @@ Distances (``metric``):
   first screened with the first-order value ``||Hn1^-1 Hn2 - I||_F``, which
   costs two small matrix products for all pairs at once; the exact
   logarithm is computed only for pairs below ``screen`` (the only ones that
-  can sit in one cluster), the others keep the first-order value (both are
-  large for them). ``screen=np.inf`` computes every logarithm.
+  can sit in one cluster), the others keep the symmetrised first-order value
+  of ``"lie_linear"`` (both are large for them). ``screen=np.inf`` computes
+  every logarithm.
 * ``"lie_linear"``: the first-order Lie distance, the symmetrised
   ``(||Hn1^-1 Hn2 - I||_F + ||Hn2^-1 Hn1 - I||_F) / 2``. It equals
   ``||log(Hn1^-1 Hn2)||_F`` up to terms of second order in the distance
@@ -150,10 +151,11 @@ class HomographyInFrame(Homography):
             return np.sqrt(np.einsum("...ij,...ij->...", D, D))
         M = np.matmul(np.linalg.inv(A), B)
         first = M - np.eye(3)
-        d = np.sqrt(np.einsum("...ij,...ij->...", first, first))
+        back = np.matmul(np.linalg.inv(B), A) - np.eye(3)
+        d = 0.5 * (np.sqrt(np.einsum("...ij,...ij->...", first, first))
+                   + np.sqrt(np.einsum("...ij,...ij->...", back, back)))
         if self.metric == "lie_linear":
-            back = np.matmul(np.linalg.inv(B), A) - np.eye(3)
-            return 0.5 * (d + np.sqrt(np.einsum("...ij,...ij->...", back, back)))
+            return d
         near = d < self.screen
         if np.any(near):
             Mb = np.broadcast_to(M, (*d.shape, 3, 3))
@@ -179,9 +181,9 @@ class HomographyInFrame(Homography):
             return out
         Ainv = np.linalg.inv(A)
         out = _first_order(Ainv, B)
+        back = out.T if points_b is None else _first_order(np.linalg.inv(B), A).T
+        out = 0.5 * (out + back)
         if self.metric == "lie_linear":
-            back = out.T if points_b is None else _first_order(np.linalg.inv(B), A).T
-            out = 0.5 * (out + back)
             if points_b is None:
                 np.fill_diagonal(out, 0.0)
             return out

@@ -191,6 +191,34 @@ class HomographySpace(HypothesisSpace):
                                             screen=screen)
         return space
 
+    @classmethod
+    def for_images(cls, size1, size2, *, residual: str = "transfer", metric: str = "lie_linear",
+                   normalization: str = "det", screen: float = 1.0) -> HomographySpace:
+        """Like :meth:`for_data`, with the frames fixed by the image sizes instead.
+
+        ``T = [[2/w, 0, -1], [0, 2/h, -1], [0, 0, 1]]`` maps each image onto
+        ``[-1, 1]^2``: the frame does not depend on which matches were found.
+
+        Examples
+        --------
+        >>> space = HomographySpace.for_images((640, 480), (640, 480))
+        >>> space.manifold.T1.tolist()[0]
+        [0.003125, 0.0, -1.0]
+        """
+        from ..geometry.homography_frame import HomographyInFrame
+
+        def frame(size, name):
+            w, h = (float(v) for v in size)
+            if not (np.isfinite(w) and np.isfinite(h) and w > 0 and h > 0):
+                raise ValueError(f"{name}: expected a positive (width, height), got {size!r}")
+            return np.array([[2.0 / w, 0.0, -1.0], [0.0, 2.0 / h, -1.0], [0.0, 0.0, 1.0]])
+
+        space = cls(residual=residual, normalization="h33")
+        space._manifold = HomographyInFrame(frame(size1, "size1"), frame(size2, "size2"),
+                                            metric=metric, normalization=normalization,
+                                            screen=screen)
+        return space
+
     def __repr__(self) -> str:
         return f"HomographySpace(residual={self.residual!r}, normalization={self.normalization!r})"
 
