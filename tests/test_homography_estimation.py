@@ -133,9 +133,9 @@ def test_progressive_sampling_uses_the_best_matches_first():
 
 def test_opencv_baselines_on_the_same_matches():
     data = pair_matches(seed=8)
-    for method in ["cv2_ransac", "magsac"]:
+    for method, tol in [("cv2_ransac", 2.0), ("magsac", 2.0), ("usac_ransac_fixed", 5.0)]:
         res = opencv_homography(data, method)
-        assert res.success and corner_error(res.model, H_TRUE, SIZE) < 2.0
+        assert res.success and corner_error(res.model, H_TRUE, SIZE) < tol
         assert res.diagnostics["seconds"] > 0
 
 

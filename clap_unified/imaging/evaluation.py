@@ -25,6 +25,7 @@ EVALUATED = {
     "RANSAC (library)": ("ransac", False),
     "cv2.RANSAC": ("cv2_ransac", False),
     "cv2.USAC_MAGSAC": ("magsac", False),
+    "USAC RANSAC 1000": ("usac_ransac_fixed", False),
 }
 
 

@@ -15,6 +15,7 @@ HOMOGRAPHY_STYLE = {
     "RANSAC + polish": {"color": "#000000", "marker": "x"},
     "cv2.RANSAC": {"color": "#E69F00", "marker": "s"},
     "cv2.USAC_MAGSAC": {"color": "#CC79A7", "marker": "P"},
+    "USAC RANSAC 1000": {"color": "#999999", "marker": "*"},
 }
 
 
