@@ -151,6 +151,13 @@ class HomographySpace(HypothesisSpace):
         the forward and backward transfer errors (pixels).
     normalization : {"h33", "det"}
         Normalisation of the homography group used for distances.
+
+    Notes
+    -----
+    The plain space compares hypotheses as pixel homographies (the paper's
+    metric as written), which is slow and badly conditioned for clustering
+    hundreds of candidates. For CLAP use :meth:`for_data` (the Hartley frame
+    of the matches) or :meth:`for_images` (the image-size frame).
     """
 
     min_samples = 4
