@@ -147,12 +147,22 @@ def clap(space, data, *, hypotheses: HypothesisSet | None = None, n_hypotheses: 
 
     clusters = []
     if mode == "local":
-        near = np.flatnonzero(manifold.distance(initial_guess, models) <= radius)
+        full = None
+        if centre == "medoid" and h < manifold.small_pairwise:
+            # few candidates: one matrix holds the distances to the guess and among them
+            full = manifold.pairwise_distance(np.concatenate([initial_guess[None], models]))
+            d_guess = full[0, 1:]
+        else:
+            d_guess = manifold.distance(initial_guess, models)
+        near = np.flatnonzero(d_guess <= radius)
         diag["in_radius"] = len(near)
         if len(near) < min_support:
             return fail(f"only {len(near)} hypotheses within radius {radius:g} of initial_guess "
                         f"(min_support={min_support})")
-        sub = manifold.pairwise_distance(models[near]) if centre == "medoid" else None
+        if full is not None:
+            sub = full[np.ix_(near + 1, near + 1)]
+        else:
+            sub = manifold.pairwise_distance(models[near]) if centre == "medoid" else None
         if centre == "medoid" and rejection == "trim":  # all from the one matrix
             b, keep = trimmed_medoid_index(sub, rounds=rounds, discard_fraction=discard_fraction)
             clusters.append(Cluster(models[near[b]], len(near), float(np.median(sub[b, keep])),

@@ -88,16 +88,17 @@ def trimmed_medoid_index(distances, *, rounds: int = 5, discard_fraction: float 
     if dist.shape != (n, n):
         raise ValueError(f"distances: expected shape ({n}, {n}), got {dist.shape}")
     idx = np.arange(n)
+    members = np.ones(n, bool)
     best = int(np.argmin(dist @ np.full(n, 1.0 / n)))
     for _ in range(rounds):
         keep = max(min_members, int(np.ceil(len(idx) * (1.0 - discard_fraction))))
         if keep >= len(idx):
             break
-        idx = np.sort(idx[np.argsort(dist[best, idx], kind="stable")[:keep]])
-        sub = dist[np.ix_(idx, idx)]
-        best = int(idx[np.argmin(sub @ np.full(len(idx), 1.0 / len(idx)))])
-    members = np.zeros(n, bool)
-    members[idx] = True
+        members[:] = False
+        members[idx[np.argsort(dist[best, idx], kind="stable")[:keep]]] = True
+        idx = np.flatnonzero(members)
+        # mean distance of each member to the members (non-members weigh zero)
+        best = int(idx[np.argmin(dist[idx] @ (members / keep))])
     return best, members
 
 
