@@ -184,3 +184,39 @@ def test_cluster_members_index_the_given_candidates():
     assert res.support.shape == (len(hyps),) and res.support[members].all()
     e_t, e_r = space.manifold.relative_error(res.clusters[0].model, hyps.models[members])
     assert np.all(np.sqrt(e_t**2 + 4 * e_r**2) <= 2 * 0.15 + 1e-9)   # within 2 bandwidths
+
+
+def test_local_mode_around_a_prior():
+    det = simulate_detections(LAB, TRAJ[20], outlier_ratio=0.8, rng=21)
+    space = LAB.space()
+    hyps = generate_hypotheses(space, det.data, 1000, rng=0)
+    nudge = SE3.from_rt(so3_exp([0.0, 0.0, np.radians(4.0)]), [0.2, -0.1, 0.05])
+    prior = det.truth @ nudge
+    for method in ("clap", "ransac"):
+        res = localize3d(det.data, LAB, method=method, space=space, hypotheses=hyps,
+                         prior=prior)
+        e_t, e_r = pose_errors(res.model, det.truth)
+        assert res and e_t < 0.05 and e_r < 1.0, method
+        assert 0 < res.diagnostics["near_prior"] < len(hyps)
+        supported = hyps.models[res.support]
+        assert res.support.shape == (len(hyps),) and len(supported) > 0
+        e_t, _ = space.manifold.relative_error(prior, supported)
+        assert np.all(e_t <= 0.5)               # only candidates near the prior
+    far = det.truth @ SE3.from_rt(np.eye(3), [5.0, 0.0, 0.0])
+    res = localize3d(det.data, LAB, space=space, hypotheses=hyps, prior=far)
+    assert not res and "of the prior" in res.reason
+    with pytest.raises(ValueError, match="prior"):
+        localize3d(det.data, LAB, space=space, prior=np.eye(3))
+    with pytest.raises(ValueError, match="max_rotation"):
+        localize3d(det.data, LAB, space=space, prior=prior, max_rotation=-1.0)
+
+
+def test_point_set_metric_matches_point_set_distance_and_needs_points():
+    X = np.random.default_rng(0).normal(size=(7, 3))
+    g = SE3(metric="point_set", reference_points=X)
+    T = SE3().random(6, rng=1)
+    assert np.allclose(g.distance(T[:3], T[3:]), SE3().point_set_distance(T[:3], T[3:], X))
+    with pytest.raises(ValueError, match="reference_points"):
+        SE3(metric="point_set")
+    with pytest.raises(ValueError, match="metric"):
+        SE3(metric="chordal")

@@ -97,7 +97,8 @@ def pose_errors(estimate, truth):
 def localize3d(observations, landmarks, *, method: str = "clap", n_hypotheses: int = 1000,
                bandwidth: float = 0.15, centre: str = "medoid", residual_threshold: float = 0.15,
                max_clusters: int = 5, min_support: int = 3, space: Landmark3DSpace | None = None,
-               hypotheses=None, prune: bool = True, open3d_iterations: int = 100000, rng=None,
+               hypotheses=None, prune: bool = True, prior=None, max_translation: float = 0.5,
+               max_rotation: float = np.radians(10.0), open3d_iterations: int = 100000, rng=None,
                **space_options) -> ConsensusResult:
     """Pose ``T_world_body`` from one frame of typed 3D landmark detections.
 
@@ -130,6 +131,15 @@ def localize3d(observations, landmarks, *, method: str = "clap", n_hypotheses: i
         ``min_support`` others within ``2 * bandwidth``
         (:func:`dense_candidates`); they cannot join a cluster, and the
         pairwise distance matrix shrinks from all candidates to the few dense ones.
+    prior : ndarray of shape (4, 4), optional
+        An initial guess (the previous estimate). Only candidates within
+        ``max_translation`` and ``max_rotation`` of it (relative transform
+        error, Sec. III-C of the paper) are kept; CLAP then finds their robust
+        centre in local mode, RANSAC scores only them. Open3D ignores it.
+    max_translation : float
+        Local filter: translation threshold, metres.
+    max_rotation : float
+        Local filter: rotation threshold, radians.
     open3d_iterations : int
         Open3D RANSAC iteration cap.
     rng : None, int or numpy.random.Generator
@@ -177,14 +187,40 @@ def localize3d(observations, landmarks, *, method: str = "clap", n_hypotheses: i
     data = space.check_data(data)
     residual_threshold = check_positive(residual_threshold, "residual_threshold")
     n_hypotheses = check_int(n_hypotheses, "n_hypotheses", minimum=1)
+    if prior is not None:
+        prior = space.manifold.validate(prior, "prior")
+        if prior.shape != (4, 4):
+            raise ValueError(f"prior: expected one 4 x 4 pose, got shape {prior.shape}")
+        max_translation = check_positive(max_translation, "max_translation")
+        max_rotation = check_positive(max_rotation, "max_rotation")
     if method == "open3d":
         res = _open3d(space, data, residual_threshold, open3d_iterations, rng)
     else:
         if hypotheses is None:
             hypotheses = generate_hypotheses(space, data, n_hypotheses, rng=rng)
+        gate = None
+        if prior is not None:
+            e_t, e_r = space.manifold.relative_error(prior, hypotheses.models)
+            gate = np.flatnonzero((e_t <= max_translation) & (e_r <= max_rotation))
         if len(hypotheses) == 0:
             res = ConsensusResult.failure(method, "no candidate pose: no observed triplet "
                                           "matches a map triplet", n, 0, space)
+        elif gate is not None and len(gate) < (min_support if method == "clap" else 1):
+            res = ConsensusResult.failure(
+                method, f"{len(gate)} candidates within {max_translation:g} m and "
+                f"{np.degrees(max_rotation):.3g} deg of the prior", n, len(hypotheses), space)
+        elif gate is not None:
+            near = hypotheses.subset(gate)
+            if method == "clap":
+                radius = float(space.manifold.distance(prior, near.models).max())
+                res = clap(space, data, hypotheses=near, mode="local", initial_guess=prior,
+                           radius=max(radius * (1 + 1e-9), 1e-12), centre=centre,
+                           min_support=min_support, residual_threshold=residual_threshold)
+            else:
+                res = ransac(space, data, hypotheses=near, max_trials=len(near),
+                             residual_threshold=residual_threshold)
+            _index_into(res, gate, len(hypotheses))
+            res.diagnostics["near_prior"] = len(gate)
         elif method == "clap":
             candidates = hypotheses
             if prune:

@@ -1,0 +1,45 @@
+"""Open3D wrappers and the generated point-cloud scene (small and fast)."""
+
+import numpy as np
+
+from clap_unified.localization.localize3d import align_correspondences, pose_errors
+from clap_unified.localization.open3d_baselines import (
+    feature_correspondences,
+    fpfh_features,
+    open3d_fgr,
+    scene_point_clouds,
+)
+from clap_unified.spaces.rigid3d import Correspondence3DSpace
+
+
+def test_scene_is_seeded_and_the_truth_relates_the_scans():
+    a = scene_point_clouds(n_points=3000, rng=5)
+    b = scene_point_clouds(n_points=3000, rng=5)
+    assert np.array_equal(a.source, b.source) and np.array_equal(a.truth, b.truth)
+    # every source point, moved by the truth, lies near some target surface sample
+    from scipy.spatial import cKDTree
+
+    moved = a.source @ a.truth[:3, :3].T + a.truth[:3, 3]
+    d, _ = cKDTree(a.target).query(moved)
+    overlap = moved[:, 0] < 0.9
+    assert np.median(d[overlap]) < 0.06
+
+
+def test_fpfh_pipeline_and_clap_on_feature_correspondences():
+    sc = scene_point_clouds(n_points=12000, rng=1)
+    ps, fs, pd, pf = fpfh_features(sc.source, 0.06)
+    pt, ft, td, tf = fpfh_features(sc.target, 0.06)
+    assert fs.shape == (len(ps), 33) and ft.shape == (len(pt), 33)
+    pairs = feature_correspondences(fs, ft)
+    assert pairs.ndim == 2 and pairs.shape[1] == 2 and len(pairs) > 100
+    mutual = set(map(tuple, pairs))
+    assert len(mutual) == len(pairs)
+    data = np.c_[ps[pairs[:, 0]], pt[pairs[:, 1]]]
+    space = Correspondence3DSpace(distance_tolerance=0.06, inlier_threshold=0.09)
+    res = align_correspondences(data, n_samples=300_000, space=space, bandwidth=0.3,
+                                residual_threshold=0.09, rng=0)
+    assert res
+    e_t, e_r = pose_errors(res.model, sc.truth)
+    assert e_t < 0.15 and e_r < 5.0
+    T, seconds = open3d_fgr(pd, td, pf, tf, threshold=0.09)
+    assert T.shape == (4, 4) and seconds > 0
