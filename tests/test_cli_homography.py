@@ -65,6 +65,10 @@ def test_stitch_bad_input_exits_2_and_writes_nothing(synthetic_set, tmp_path, ca
     cv2.imwrite(str(blank), np.full((480, 640, 3), 128, np.uint8))
     code, _, err = run(["stitch", left, str(blank), "-o", str(out)], capsys)
     assert code == 2 and "too few matches" in err
+    code, _, err = run(["stitch", left, left, "-o", str(tmp_path / "pano.xyz")], capsys)
+    assert code == 2 and "extension" in err
+    code, _, err = run(["stitch", left, left, "-o", str(tmp_path / "no" / "pano.png")], capsys)
+    assert code == 2 and "does not exist" in err
     assert not out.exists() and sorted(p.name for p in tmp_path.iterdir()) == ["blank.png",
                                                                              "junk.jpg"]
 

@@ -81,6 +81,9 @@ def stitch_command(args) -> dict:
     out = Path(args.output)
     if not out.parent.is_dir():
         raise ValueError(f"{out}: the output folder {out.parent} does not exist")
+    if not cv2.haveImageWriter(str(out)):
+        raise ValueError(f"{out}: OpenCV cannot write images with this extension "
+                         "(use .png or .jpg)")
     left, right, matches, quality = match_images(args.left, args.right, ratio=args.ratio)
     if len(matches) < MIN_MATCHES:
         raise ValueError(f"too few matches between {args.left} and {args.right} "
@@ -94,8 +97,12 @@ def stitch_command(args) -> dict:
     fd, tmp = tempfile.mkstemp(suffix=out.suffix or ".png", dir=out.parent)
     os.close(fd)
     try:
-        if not cv2.imwrite(tmp, pano):
-            raise OSError(f"{out}: cannot write an image with this extension")
+        try:
+            written = cv2.imwrite(tmp, pano)
+        except cv2.error as exc:
+            raise OSError(f"{out}: cannot write the panorama ({exc})") from None
+        if not written:
+            raise OSError(f"{out}: cannot write the panorama")
         os.replace(tmp, out)
     finally:
         if os.path.exists(tmp):
