@@ -3,11 +3,12 @@
 from __future__ import annotations
 
 import csv
+import json
 from pathlib import Path
 
 import numpy as np
 
-__all__ = ["read_points_csv"]
+__all__ = ["read_json_list", "read_points_csv"]
 
 
 def read_points_csv(path, *, columns: int = 2, min_rows: int = 1) -> np.ndarray:
@@ -55,3 +56,41 @@ def read_points_csv(path, *, columns: int = 2, min_rows: int = 1) -> np.ndarray:
         raise ValueError(f"{path}: need at least {min_rows} rows of {columns} numbers, "
                          f"got {len(rows)}")
     return np.array(rows, dtype=float)
+
+
+def read_json_list(path, *, what: str = "", item: str = '{"type", "x", "y"}') -> list:
+    """The JSON list in ``path``, or a ``ValueError`` naming the file and the problem.
+
+    Parameters
+    ----------
+    path : str or Path
+    what : str
+        What the file is ("map", "observations"), for the missing-file message.
+    item : str
+        What each element should be, for the not-a-list message.
+
+    Examples
+    --------
+    >>> import tempfile, os
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     p = os.path.join(d, "obs.json")
+    ...     with open(p, "w") as f:
+    ...         _ = f.write('{"type": "L"}')
+    ...     try:
+    ...         read_json_list(p)
+    ...     except ValueError as exc:
+    ...         print(str(exc).split(": ", 1)[1])
+    expected a JSON list of {"type", "x", "y"} objects
+    """
+    path = Path(path)
+    try:
+        doc = json.loads(path.read_text())
+    except FileNotFoundError:
+        raise ValueError(f"{path}: no such {what + ' ' if what else ''}file") from None
+    except (OSError, UnicodeDecodeError) as exc:
+        raise ValueError(f"{path}: cannot read ({exc})") from None
+    except json.JSONDecodeError as exc:
+        raise ValueError(f"{path}: not valid JSON ({exc})") from None
+    if not isinstance(doc, list):
+        raise ValueError(f"{path}: expected a JSON list of {item} objects")
+    return doc

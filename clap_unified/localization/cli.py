@@ -2,13 +2,13 @@
 
 from __future__ import annotations
 
-import json
 import time
 from pathlib import Path
 
 import numpy as np
 
 from ..geometry.se2 import SE2
+from ..io import read_json_list
 from .field import FIELD_DIMENSIONS
 from .localize2d import LOCALIZE_METHODS, localize2d, observation_data
 
@@ -25,16 +25,7 @@ def read_observations(path):
         missing or non-finite coordinates; the message names the file.
     """
     path = Path(path)
-    try:
-        doc = json.loads(path.read_text())
-    except FileNotFoundError:
-        raise ValueError(f"{path}: no such file") from None
-    except (OSError, UnicodeDecodeError) as exc:
-        raise ValueError(f"{path}: cannot read ({exc})") from None
-    except json.JSONDecodeError as exc:
-        raise ValueError(f"{path}: not valid JSON ({exc})") from None
-    if not isinstance(doc, list):
-        raise ValueError(f"{path}: expected a JSON list of {{\"type\", \"x\", \"y\"}} objects")
+    doc = read_json_list(path)
     try:
         data = observation_data(doc)
     except ValueError as exc:
