@@ -85,9 +85,10 @@ def polish_homography(H, matches, *, threshold: float = 3.0, irls_iterations: in
         return H, inl
     for _ in range(irls_iterations):
         w = np.where(r < t, (1.0 - (r / t) ** 2) ** 2, 0.0)
-        if np.count_nonzero(w) < 4:
+        keep = w > 0  # zero-weight rows change nothing but the cost of the SVD
+        if np.count_nonzero(keep) < 4:
             break
-        cand = dlt(m[:, :2], m[:, 2:], w)
+        cand = dlt(m[keep, :2], m[keep, 2:], w[keep])
         if not np.all(np.isfinite(cand)) or abs(cand[2, 2]) < 1e-12:
             break
         cand = cand / cand[2, 2]
