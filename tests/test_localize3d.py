@@ -1,5 +1,7 @@
 """3D localization: Kabsch, triplet spaces, the lab scenario, CLAP vs RANSAC vs Open3D."""
 
+from itertools import combinations
+
 import numpy as np
 import pytest
 
@@ -220,3 +222,16 @@ def test_point_set_metric_matches_point_set_distance_and_needs_points():
         SE3(metric="point_set")
     with pytest.raises(ValueError, match="metric"):
         SE3(metric="chordal")
+
+
+def test_triplet_matching_in_chunks_gives_the_same_candidates(monkeypatch):
+    import clap_unified.spaces.landmarks3d as mod
+
+    det = simulate_detections(LAB, TRAJ[8], outlier_ratio=0.5, rng=2)
+    space = LAB.space()
+    samples = np.array(list(combinations(range(len(det)), 3)))
+    whole = space.match_triplets(det.data, samples)
+    monkeypatch.setattr(mod, "MASK_LIMIT", 7 * len(LAB) ** 2)   # chunks of 7 triplets
+    parts = space.match_triplets(det.data, samples)
+    assert len(whole[0]) > 0
+    assert np.array_equal(whole[0], parts[0]) and np.array_equal(whole[1], parts[1])

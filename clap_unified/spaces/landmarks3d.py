@@ -30,6 +30,9 @@ from .rigid3d import _refit, kabsch, min_altitude, pose_manifold, pose_to_dict
 
 __all__ = ["Landmark3DSpace"]
 
+#: Observed triplets are matched in chunks so the (triplets, M, M) pair mask stays below this.
+MASK_LIMIT = 20_000_000
+
 
 class Landmark3DSpace(HypothesisSpace):
     """SE(3) poses from triplets of typed landmark observations matched to a 3D map.
@@ -159,6 +162,14 @@ class Landmark3DSpace(HypothesisSpace):
         """
         data = np.asarray(data, dtype=float)
         samples = np.asarray(samples, dtype=np.intp).reshape(-1, 3)
+        m = len(self.positions)
+        chunk = max(1, MASK_LIMIT // (m * m))
+        if len(samples) > chunk:  # bound the (S, M, M) pair mask
+            parts = [self.match_triplets(data, samples[i:i + chunk])
+                     for i in range(0, len(samples), chunk)]
+            owner = np.concatenate([o + i for (o, _), i in
+                                    zip(parts, range(0, len(samples), chunk), strict=True)])
+            return owner, np.concatenate([lm for _, lm in parts]).reshape(-1, 3)
         ids = data[:, 0].astype(int)
         P = data[samples, 1:]  # (S, 3, 3)
         keep = np.flatnonzero(min_altitude(P) >= self.min_altitude)
