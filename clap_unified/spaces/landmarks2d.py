@@ -230,7 +230,7 @@ class Landmark2DSpace(HypothesisSpace):
         d2 = np.einsum("hnmk,hnmk->hnm", diff, diff)
         d2[:, self._type_ids[None, :] != np.asarray(ids)[:, None]] = np.inf
         nearest = d2.argmin(axis=-1)
-        distance = np.sqrt(np.take_along_axis(d2, nearest[..., None], axis=-1)[..., 0])
+        distance = np.sqrt(d2.min(axis=-1))
         target = self.field.positions[nearest]
         target[~np.isfinite(distance)] = np.nan
         return distance, target
