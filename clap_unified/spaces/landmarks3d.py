@@ -26,7 +26,7 @@ import numpy as np
 from .._validation import check_array, check_points, check_positive
 from ..geometry.se3 import SE3
 from .base import HypothesisSpace
-from .rigid3d import _refit, kabsch, min_altitude, pose_manifold, pose_to_dict
+from .rigid3d import _from_rt, _kabsch, _refit, min_altitude, pose_manifold, pose_to_dict
 
 __all__ = ["Landmark3DSpace"]
 
@@ -204,8 +204,9 @@ class Landmark3DSpace(HypothesisSpace):
         owner, landmarks = self.match_triplets(data, samples)
         if len(owner) == 0:
             return np.empty((0, 4, 4)), owner
-        R, t = kabsch(data[samples[owner], 1:], self.positions[landmarks])
-        return SE3.from_rt(R, t), owner
+        R, t = _kabsch(data[samples[owner], 1:], self.positions[landmarks],
+                       np.full((len(owner), 3), 1.0 / 3.0))
+        return _from_rt(R, t), owner
 
     # --------------------------------------------------------------- residuals
     def _world(self, models, data):

@@ -67,6 +67,11 @@ def kabsch(source, target, weights=None):
         if np.any(w < 0) or np.any(total <= 0):
             raise ValueError("weights: expected non-negative weights with a positive sum")
         w = w / total
+    return _kabsch(P, Q, w)
+
+
+def _kabsch(P, Q, w):
+    """:func:`kabsch` on checked arrays with weights summing to one (no validation)."""
     cp = np.einsum("...k,...ki->...i", w, P)
     cq = np.einsum("...k,...ki->...i", w, Q)
     H = np.einsum("...k,...ki,...kj->...ij", w, P - cp[..., None, :], Q - cq[..., None, :])
@@ -187,8 +192,8 @@ class Correspondence3DSpace(HypothesisSpace):
                       & (min_altitude(Q[owner]) >= self.min_altitude)]
         if len(owner) == 0:
             return np.empty((0, 4, 4)), owner
-        R, t = kabsch(P[owner], Q[owner])
-        return SE3.from_rt(R, t), owner
+        R, t = _kabsch(P[owner], Q[owner], np.full((len(owner), 3), 1.0 / 3.0))
+        return _from_rt(R, t), owner
 
     def residuals(self, models, data) -> np.ndarray:
         """``|R p + t - q|`` for every model and correspondence, shape ``(H, N)``."""
@@ -218,5 +223,14 @@ def _refit(source, target, weights, min_alt):
     sv = np.linalg.svd(centred, compute_uv=False)
     if sv[1] / np.sqrt(len(source)) < 0.5 * max(min_alt, 1e-9):  # collinear spread
         return None
-    R, t = kabsch(source, target, w)
-    return SE3.from_rt(R, t)
+    R, t = _kabsch(source, target, w / w.sum())
+    return _from_rt(R, t)
+
+
+def _from_rt(R, t):
+    """4 x 4 poses from checked rotations ``(..., 3, 3)`` and translations ``(..., 3)``."""
+    T = np.zeros((*R.shape[:-2], 4, 4))
+    T[..., :3, :3] = R
+    T[..., :3, 3] = t
+    T[..., 3, 3] = 1.0
+    return T
