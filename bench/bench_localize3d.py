@@ -10,7 +10,8 @@ criteria: at most 100,000 iterations, early stop at 0.999 confidence), the
 success rate (within 5 cm and 1 degree) and the median translation and
 rotation errors. CLAP and RANSAC share one budget of ``--budget`` random
 triplets ("(250 triplets)": a quarter of it); "open3d (budget)" caps Open3D at the same
-number of iterations; "open3d + refit" adds the library's inlier refit to Open3D's pose.
+number of iterations; "+ refit" adds the library's inlier refit to Open3D's pose. Open3D's
+RANSAC is not reproducible run to run (even seeded), so its rows vary a little.
 Not a test: run it with ``make bench`` or ``python bench/bench_localize3d.py``.
 Timings on a shared machine are noisy; the ratios come from one run.
 """
@@ -77,6 +78,8 @@ def main(argv=None) -> None:
         "open3d (budget)": lambda d, s: open3d_run(d, t, b, s),
         "open3d + refit": lambda d, s: align_correspondences(
             d, method="open3d", n_samples=100000, residual_threshold=t, rng=s).model,
+        "open3d (budget) + refit": lambda d, s: align_correspondences(
+            d, method="open3d", n_samples=b, residual_threshold=t, rng=s).model,
     }
     scenes = [scene(args.correspondences, args.outliers, s) for s in range(args.scenes)]
     for fn in methods.values():  # warm-up: imports, caches
