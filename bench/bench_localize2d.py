@@ -23,6 +23,7 @@ import argparse
 import os
 import platform
 import time
+from functools import partial
 
 import numpy as np
 
@@ -81,10 +82,10 @@ def main(argv=None):
     for truth, obs in data:
         prior = truth @ SE2.from_xytheta(0.15, -0.1, np.radians(5))
         runs = {
-            "CLAP global": lambda: localize2d(obs.data, space=space),
-            "CLAP local": lambda: localize2d(obs.data, space=space, prior=prior),
-            "RANSAC": lambda: localize2d(obs.data, space=space, method="ransac"),
-            "Hough": lambda: localize2d(obs.data, space=space, method="hough"),
+            "CLAP global": partial(localize2d, obs.data, space=space),
+            "CLAP local": partial(localize2d, obs.data, space=space, prior=prior),
+            "RANSAC": partial(localize2d, obs.data, space=space, method="ransac"),
+            "Hough": partial(localize2d, obs.data, space=space, method="hough"),
         }
         for name, fn in runs.items():
             res, t = timed(fn, args.repeat)
@@ -93,11 +94,11 @@ def main(argv=None):
                               else (np.inf, np.inf))
         x, y, th = SE2.to_xytheta(prior)
 
-        def mcl_frame(x=x, y=y, th=th):
+        def mcl_frame(x=x, y=y, th=th, data=obs.data):
             pf = ParticleFilter(field, 500, initial=(x, y, th), rng=0)
             t0 = time.perf_counter()
             pf.predict((0.08, 0.0, 0.01))
-            pf.update(obs.data)
+            pf.update(data)
             est = pf.estimate()
             return SE2.from_xytheta(*est), time.perf_counter() - t0
 
