@@ -11,13 +11,13 @@ triplet of them also fits a camera flipped upside down below the floor.
 
 from __future__ import annotations
 
-import json
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
 from .._validation import check_points
+from ..io import read_json_list
 from .field import FIELD_DIMENSIONS, field_landmarks
 
 __all__ = ["LandmarkMap3D", "lab_map", "read_landmarks_json", "GOAL_HEIGHT"]
@@ -113,17 +113,7 @@ def read_landmarks_json(path, what: str = "map") -> tuple[np.ndarray, np.ndarray
         non-numeric or non-finite coordinates; the message names the file.
     """
     path = Path(path)
-    try:
-        doc = json.loads(path.read_text())
-    except FileNotFoundError:
-        raise ValueError(f"{path}: no such {what} file") from None
-    except (OSError, UnicodeDecodeError) as exc:
-        raise ValueError(f"{path}: cannot read ({exc})") from None
-    except json.JSONDecodeError as exc:
-        raise ValueError(f"{path}: not valid JSON ({exc})") from None
-    if not isinstance(doc, list):
-        raise ValueError(f"{path}: expected a JSON list of {{\"type\", \"x\", \"y\", \"z\"}} "
-                         "objects")
+    doc = read_json_list(path, what=what, item='{"type", "x", "y", "z"}')
     types, pos = [], []
     for i, item in enumerate(doc):
         try:
