@@ -12,7 +12,7 @@ from ..io import read_json_list
 from .field import FIELD_DIMENSIONS
 from .localize2d import LOCALIZE_METHODS, localize2d, observation_data
 
-__all__ = ["register", "read_observations"]
+__all__ = ["register", "read_observations", "result_summary"]
 
 
 def read_observations(path):
@@ -59,12 +59,20 @@ def _localize2d(args) -> dict:
         "pose": _pose_dict(res.model) if res.success else None,
         "clusters": [{"pose": _pose_dict(c.model), "support": int(c.support),
                       "spread": float(c.spread)} for c in res.clusters],
+        **result_summary(res, len(data), args.method, seconds),
+        "field": args.field,
+    }
+    return out
+
+
+def result_summary(res, n_observations: int, method: str, seconds: float) -> dict:
+    """The JSON fields every ``localize*`` command prints besides the pose and clusters."""
+    out = {
         "success": bool(res.success),
         "inliers": res.n_inliers,
-        "observations": len(data),
-        "candidates": int(res.diagnostics.get("candidates", res.diagnostics.get("hypotheses", 0))),
-        "method": args.method,
-        "field": args.field,
+        "observations": n_observations,
+        "candidates": int(res.diagnostics.get("candidates", 0)),
+        "method": method,
         "seconds": round(seconds, 6),
     }
     if not res.success:

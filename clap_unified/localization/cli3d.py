@@ -6,6 +6,7 @@ import time
 
 import numpy as np
 
+from .cli import result_summary
 from .localize3d import LOCALIZE3D_METHODS, localize3d
 from .map3d import LandmarkMap3D, read_landmarks_json
 
@@ -37,15 +38,8 @@ def _localize3d(args) -> dict:
         **(_pose(res.model) if res.success else {"rotation": None, "translation": None}),
         "clusters": [{**_pose(c.model), "support": int(c.support), "spread": float(c.spread)}
                      for c in res.clusters],
-        "success": bool(res.success),
-        "inliers": res.n_inliers,
-        "observations": len(data),
-        "candidates": int(res.diagnostics.get("candidates", 0)),
-        "method": args.method,
-        "seconds": round(seconds, 6),
+        **result_summary(res, len(data), args.method, seconds),
     }
-    if not res.success:
-        out["reason"] = res.reason
     return out
 
 
