@@ -31,8 +31,10 @@ def read_points_csv(path, *, columns: int = 2, min_rows: int = 1) -> np.ndarray:
     [[0.0, 1.0], [2.0, 3.0]]
     """
     path = Path(path)
-    if not path.is_file():
+    if not path.exists():
         raise ValueError(f"{path}: no such file")
+    if not path.is_file():
+        raise ValueError(f"{path}: not a regular file")
     try:
         text = path.read_text()
     except (OSError, UnicodeDecodeError) as exc:
@@ -53,7 +55,7 @@ def read_points_csv(path, *, columns: int = 2, min_rows: int = 1) -> np.ndarray:
             raise ValueError(f"{path}: line {lineno}: non-finite value (NaN or inf) in {row!r}")
         rows.append(values)
     if len(rows) < min_rows:
-        raise ValueError(f"{path}: need at least {min_rows} rows of {columns} numbers, "
+        raise ValueError(f"{path}: need at least {min_rows} row(s) of {columns} numbers, "
                          f"got {len(rows)}")
     return np.array(rows, dtype=float)
 
