@@ -55,7 +55,7 @@ def read_points_csv(path, *, columns: int = 2, min_rows: int = 1) -> np.ndarray:
             raise ValueError(f"{path}: line {lineno}: non-finite value (NaN or inf) in {row!r}")
         rows.append(values)
     if len(rows) < min_rows:
-        raise ValueError(f"{path}: need at least {min_rows} row(s) of {columns} numbers, "
+        raise ValueError(f"{path}: need at least {min_rows} rows of {columns} numbers, "
                          f"got {len(rows)}")
     return np.array(rows, dtype=float)
 
