@@ -154,8 +154,8 @@ class ParticleFilter:
         if m:
             idx = self.rng.choice(self.n, m, replace=False)
             self.particles[idx] = self._random(m)
-        ll = self.log_likelihood(data)
         data = np.asarray(data, dtype=float).reshape(-1, 3)
+        ll = self.log_likelihood(data)
         if len(data):
             # per-detection geometric mean, so the average does not underflow
             w_avg = float(np.mean(np.exp(ll / len(data))))

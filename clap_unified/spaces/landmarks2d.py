@@ -106,8 +106,6 @@ class Landmark2DSpace(HypothesisSpace):
         a, b = np.nonzero(~np.eye(len(field.positions), dtype=bool))  # ordered map pairs
         self._map_pairs = (a, b, np.linalg.norm(field.positions[b] - field.positions[a], axis=1),
                            self._type_ids[a], self._type_ids[b])
-        self._marks_of_type = {int(t): field.positions[self._type_ids == t]
-                               for t in np.unique(self._type_ids)}
 
     def __repr__(self) -> str:
         return f"Landmark2DSpace(field={self.field.name!r}, tol={self.distance_tolerance:g})"
