@@ -150,3 +150,24 @@ def test_randomized_hough_recentre_handles_chart_seam():
     space = LineSpace.for_data(pts)
     res = randomized_hough(space, pts, cell_size=0.1, residual_threshold=0.06, rng=0)
     assert line_errors(space, res.model, 0.0, 0.5)[0] < 1.0
+
+
+@pytest.mark.parametrize("quantile", [0.0, 0.02, 0.05, 0.1, 0.3])
+@pytest.mark.parametrize("seed", range(4))
+def test_auto_bandwidth_shortcut_equals_full_knn_quantile(quantile, seed):
+    # the low-quantile shortcut must return exactly np.quantile of every row's k-NN
+    from clap_unified.clap import auto_bandwidth
+
+    rng = np.random.default_rng(seed)
+    n = int(rng.integers(64, 500))
+    pts = np.r_[rng.normal(0, 0.01, (n // 10, 3)), rng.uniform(-1, 1, (n - n // 10, 3))]
+    if seed == 3:
+        pts = np.round(pts, 1)  # many ties and zero distances
+    D = np.sqrt(((pts[:, None] - pts[None]) ** 2).sum(-1))
+    k = max(3, int(np.ceil(0.01 * n)))
+    full = float(np.quantile(np.partition(D, k, axis=1)[:, k], quantile))
+    got = auto_bandwidth(None, pts, quantile=quantile, distances=D)
+    if full > 0:
+        assert got == full
+    else:
+        assert got > 0

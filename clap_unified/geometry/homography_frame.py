@@ -45,19 +45,42 @@ def _normalise_det(H) -> np.ndarray:
     return H / np.cbrt(np.linalg.det(H))[..., None, None]
 
 
-def _first_order(Ainv, B) -> np.ndarray:
-    """``out[i, j] = ||Ainv_i B_j - I||_F`` for all pairs, by one matrix product.
+def _first_order(Ainv, A, B, Binv) -> np.ndarray:
+    """Symmetrised first-order distances ``(e_ij + e'_ij) / 2`` for all pairs.
 
-    ``||Ainv_i B_j - I||^2 = <Ainv_i^T Ainv_i, B_j B_j^T> - 2 tr(Ainv_i B_j) + 3``.
+    ``e_ij = ||Ainv_i B_j - I||_F`` and ``e'_ij = ||Binv_j A_i - I||_F``, each
+    from one matrix product over all pairs:
+    ``||Ainv_i B_j - I||^2 = <Ainv_i^T Ainv_i, B_j B_j^T> - 2 tr(Ainv_i B_j) + 3``
+    (the constant rides in the product as a last column).
     """
-    G = np.matmul(np.swapaxes(Ainv, 1, 2), Ainv).reshape(len(Ainv), 9)
-    K = np.matmul(B, np.swapaxes(B, 1, 2)).reshape(len(B), 9)
-    left = np.concatenate([G, -2.0 * Ainv.reshape(len(Ainv), 9)], axis=1)
-    right = np.concatenate([K, np.swapaxes(B, 1, 2).reshape(len(B), 9)], axis=1)
-    out = left @ right.T
-    out += 3.0
-    np.maximum(out, 0.0, out=out)
-    return np.sqrt(out, out=out)
+
+    def squared(Pinv, Q):
+        n, m = len(Pinv), len(Q)
+        left = np.empty((n, 19))
+        right = np.empty((m, 19))
+        left[:, :9] = np.matmul(np.swapaxes(Pinv, 1, 2), Pinv).reshape(n, 9)
+        left[:, 9:18] = Pinv.reshape(n, 9)
+        left[:, 9:18] *= -2.0
+        left[:, 18] = 1.0
+        right[:, :9] = np.matmul(Q, np.swapaxes(Q, 1, 2)).reshape(m, 9)
+        right[:, 9:18] = np.swapaxes(Q, 1, 2).reshape(m, 9)
+        right[:, 18] = 3.0
+        out = left @ right.T
+        np.maximum(out, 0.0, out=out)
+        return np.sqrt(out, out=out)
+
+    out = squared(Ainv, B)
+    out += out.T if Binv is None else squared(Binv, A).T
+    out *= 0.5
+    return out
+
+
+def _det_adjugate(M):
+    """Determinants and adjugates of ``(..., 3, 3)`` matrices from row cross products."""
+    r0, r1, r2 = M[..., 0, :], M[..., 1, :], M[..., 2, :]
+    adj = np.stack([np.cross(r1, r2), np.cross(r2, r0), np.cross(r0, r1)], axis=-1)
+    det = np.einsum("...i,...i->...", r0, adj[..., :, 0])
+    return det, adj
 
 
 class HomographyInFrame(Homography):
@@ -117,9 +140,23 @@ class HomographyInFrame(Homography):
 
     def to_frame(self, H, name: str = "H") -> np.ndarray:
         """Normalised-frame representatives ``T2 H T1^-1`` of pixel homographies."""
+        return self._frame_and_inverse(H, name)[0]
+
+    def _frame_and_inverse(self, H, name: str):
+        """Normalised-frame representatives and their inverses (adjugate over determinant)."""
         Hn = self.T2 @ check_array(H, name, shape=(Ellipsis, 3, 3)) @ self.T1inv
-        _check_invertible(Hn, name)
-        return _normalise_det(Hn) if self.normalization == "det" else normalise_h33(Hn, name)
+        det, adj = _det_adjugate(Hn)
+        bound = np.prod(np.linalg.norm(Hn, axis=-1), axis=-1)
+        bad = ~(np.abs(det) > 1e-13 * bound)
+        if np.any(bad):
+            raise ValueError(f"{name}: {int(np.sum(bad))} singular matrix(es) (det = 0), "
+                             "not a homography")
+        if self.normalization == "det":
+            c = np.cbrt(det)[..., None, None]
+            return Hn / c, adj / (c * c)
+        h = Hn[..., 2:, 2:]
+        A = normalise_h33(Hn, name)
+        return A, adj * (h / det[..., None, None])
 
     def from_frame(self, Hn, name: str = "H") -> np.ndarray:
         """Pixel homographies ``T2^-1 Hn T1`` with ``H33 = 1``."""
@@ -144,14 +181,14 @@ class HomographyInFrame(Homography):
 
     # ------------------------------------------------------------ distances
     def distance(self, point_a, point_b) -> np.ndarray:
-        A = self.to_frame(point_a, "point_a")
-        B = self.to_frame(point_b, "point_b")
+        A, Ainv = self._frame_and_inverse(point_a, "point_a")
+        B, Binv = self._frame_and_inverse(point_b, "point_b")
         if self.metric == "frobenius":
             D = A - B
             return np.sqrt(np.einsum("...ij,...ij->...", D, D))
-        M = np.matmul(np.linalg.inv(A), B)
+        M = np.matmul(Ainv, B)
         first = M - np.eye(3)
-        back = np.matmul(np.linalg.inv(B), A) - np.eye(3)
+        back = np.matmul(Binv, A) - np.eye(3)
         d = 0.5 * (np.sqrt(np.einsum("...ij,...ij->...", first, first))
                    + np.sqrt(np.einsum("...ij,...ij->...", back, back)))
         if self.metric == "lie_linear":
@@ -167,9 +204,11 @@ class HomographyInFrame(Homography):
 
     def pairwise_distance(self, points_a, points_b=None) -> np.ndarray:
         """All ``(N, M)`` distances; screened products instead of ``N M`` logarithms."""
-        A = self.to_frame(np.asarray(points_a, dtype=float), "points_a")
-        B = A if points_b is None else self.to_frame(np.asarray(points_b, dtype=float),
-                                                     "points_b")
+        A, Ainv = self._frame_and_inverse(np.asarray(points_a, dtype=float), "points_a")
+        if points_b is None:
+            B, Binv = A, None
+        else:
+            B, Binv = self._frame_and_inverse(np.asarray(points_b, dtype=float), "points_b")
         if A.ndim != 3 or B.ndim != 3:
             raise ValueError(f"points: expected shape (N, 3, 3), got {A.shape} and {B.shape}")
         if self.metric == "frobenius":
@@ -179,10 +218,7 @@ class HomographyInFrame(Homography):
             if points_b is None:
                 np.fill_diagonal(out, 0.0)
             return out
-        Ainv = np.linalg.inv(A)
-        out = _first_order(Ainv, B)
-        back = out.T if points_b is None else _first_order(np.linalg.inv(B), A).T
-        out = 0.5 * (out + back)
+        out = _first_order(Ainv, A, B, Binv)
         if self.metric == "lie_linear":
             if points_b is None:
                 np.fill_diagonal(out, 0.0)
