@@ -202,6 +202,21 @@ def test_logm_negative_eigenvalues_consistent_norm_across_tiers():
     np.testing.assert_allclose(logm(B), scipy.linalg.logm(B), atol=1e-14)
 
 
+def test_logm_two_negative_eigenvalues_is_the_principal_log():
+    # the cubic's roots put -0.0747 at -3e-15j (below the cut) and -32.6 on it: the
+    # closed-form tier must not mix the sides (it gave a norm of 18.3 instead of 14.1)
+    X = np.array([[-35.55927248339908, 38.60401043093029, -17.74566693866319],
+                  [-11.759268227377852, 12.408125324028022, -5.34462174607001],
+                  [-19.53938081589188, 20.84839396842319, -9.139903917940572]])
+    rng = np.random.default_rng(6)
+    Q = rng.standard_normal((20, 3, 3))
+    D = np.einsum("nij,nj,njk->nik", Q, rng.uniform(0.05, 30.0, (20, 3)) * [-1, -1, 1],
+                  np.linalg.inv(Q))
+    A = np.concatenate([X[None], D])
+    np.testing.assert_allclose(np.linalg.norm(logm(A), axis=(1, 2)),
+                               np.linalg.norm(scipy_logs(A), axis=(1, 2)), rtol=1e-8)
+
+
 def test_logm_other_sizes_complex_input_and_verify():
     rng = np.random.default_rng(6)
     for n in (1, 2, 4):

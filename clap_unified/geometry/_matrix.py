@@ -387,6 +387,16 @@ def _logm3(A: np.ndarray, real_input: bool):
         grading = absl.max(axis=1) / absl.min(axis=1)
         departure2 = _balanced_fro2(A) / np.einsum("ni,ni->n", absl, absl)
         stable = terms * grading * departure2 <= _MAX_AMPLIFICATION * _fro(L)
+        # a real matrix's eigenvalue left of the origin that the snap did not put on
+        # the real axis (imaginary part above 1e-14 of its modulus but at the
+        # rounding level of the spectrum) may sit on either side of the cut: with
+        # two such eigenvalues the sides can differ and the result is not the
+        # principal logarithm; the eigendecomposition tier gets them exactly real
+        if real_input:
+            absl = np.abs(lam)
+            jump |= np.any((lam.real < 0) & (lam.imag != 0)
+                           & (np.abs(lam.imag) <= 1e-8 * absl.max(axis=1, keepdims=True)),
+                           axis=1)
         ok = (stable & exact & ~jump & np.all(lam != 0, axis=1)
               & np.all(np.isfinite(L), axis=(-2, -1)))
     return L, ok
