@@ -81,13 +81,20 @@ def symmetric_reprojection_error(H, matches) -> np.ndarray:
     m = check_points(matches, "matches", dim=4, min_count=0)
     if H is None:
         return np.full(len(m), np.inf)
-    H = check_array(H, "H", shape=(3, 3))
+    return _symmetric_error(check_array(H, "H", shape=(3, 3)), m)
+
+
+def _symmetric_error(H, m) -> np.ndarray:
+    """:func:`symmetric_reprojection_error` of checked inputs: both directions in one product."""
     try:
         Hinv = np.linalg.inv(H)
     except np.linalg.LinAlgError:
         return np.full(len(m), np.inf)
-    f = np.sum((transfer(H, m[:, :2]) - m[:, 2:]) ** 2, axis=1)
-    b = np.sum((transfer(Hinv, m[:, 2:]) - m[:, :2]) ** 2, axis=1)
-    with np.errstate(invalid="ignore"):
-        out = np.sqrt(0.5 * (f + b))
+    pts = m.T.reshape(2, 2, -1)  # [[x1, y1], [x2, y2]]
+    both = np.stack([H, Hinv])
+    p = both[:, :, :2] @ pts + both[:, :, 2:]  # (2 directions, 3, N)
+    with np.errstate(all="ignore"):
+        d = p[:, :2] / p[:, 2:] - pts[::-1]
+        d *= d
+        out = np.sqrt(0.5 * ((d[0, 0] + d[0, 1]) + (d[1, 0] + d[1, 1])))
     return np.where(np.isfinite(out), out, np.inf)

@@ -20,7 +20,7 @@ import numpy as np
 
 from .._validation import check_array, check_int, check_points, check_positive
 from ..spaces.homography import dlt
-from .metrics import symmetric_reprojection_error
+from .metrics import _symmetric_error
 
 __all__ = ["polish_homography"]
 
@@ -34,7 +34,7 @@ def _symmetric_residuals(h, x):
 
 
 def _cost(H, x) -> float:
-    return float(np.mean(symmetric_reprojection_error(H, x) ** 2))
+    return float(np.mean(_symmetric_error(H, x) ** 2))
 
 
 def polish_homography(H, matches, *, threshold: float = 3.0, irls_iterations: int = 5,
@@ -62,6 +62,7 @@ def polish_homography(H, matches, *, threshold: float = 3.0, irls_iterations: in
 
     Examples
     --------
+    >>> from clap_unified.imaging.metrics import symmetric_reprojection_error
     >>> rng = np.random.default_rng(0)
     >>> src = rng.uniform(0, 640, (100, 2))
     >>> data = np.c_[src, src + [5.0, 2.0] + rng.normal(0, 0.3, (100, 2))]
@@ -79,24 +80,31 @@ def polish_homography(H, matches, *, threshold: float = 3.0, irls_iterations: in
     t = check_positive(threshold, "threshold")
     irls_iterations = check_int(irls_iterations, "irls_iterations", minimum=0)
     H = H / H[2, 2]
-    r = symmetric_reprojection_error(H, m)
+    r = _symmetric_error(H, m)
     inl = r < t
-    if inl.sum() < 4:
+    n_inl = np.count_nonzero(inl)
+    if n_inl < 4:
         return H, inl
     for _ in range(irls_iterations):
-        w = np.where(r < t, (1.0 - (r / t) ** 2) ** 2, 0.0)
-        keep = w > 0  # zero-weight rows change nothing but the cost of the SVD
-        if np.count_nonzero(keep) < 4:
-            break
-        cand = dlt(m[keep, :2], m[keep, 2:], w[keep])
+        # Tukey weights of the inliers only: zero-weight rows change nothing but
+        # the cost of the solve
+        w = 1.0 - (r[inl] / t) ** 2
+        x = m[inl]
+        cand = dlt(x[:, :2], x[:, 2:], w * w)
         if not np.all(np.isfinite(cand)) or abs(cand[2, 2]) < 1e-12:
             break
         cand = cand / cand[2, 2]
-        r_new = symmetric_reprojection_error(cand, m)
+        r_new = _symmetric_error(cand, m)
         inl_new = r_new < t
-        if inl_new.sum() < max(4, inl.sum() // 2):
+        n_new = np.count_nonzero(inl_new)
+        if n_new < max(4, n_inl // 2):
             break
-        H, r, inl = cand, r_new, inl_new
+        # converged: same inliers, residuals (hence weights) fixed to 1e-9 px
+        done = n_new == n_inl and np.array_equal(inl_new, inl) and \
+            np.max(np.abs(r_new[inl] - r[inl])) <= 1e-9
+        H, r, inl, n_inl = cand, r_new, inl_new, n_new
+        if done:
+            break
     if lm and inl.sum() >= 5:
         x = m[inl]
         best = _cost(H, x)
@@ -106,5 +114,5 @@ def polish_homography(H, matches, *, threshold: float = 3.0, irls_iterations: in
         cand = np.append(sol.x, 1.0).reshape(3, 3)
         if np.all(np.isfinite(cand)) and _cost(cand, x) <= best:
             H = cand
-            inl = symmetric_reprojection_error(H, m) < t
+            inl = _symmetric_error(H, m) < t
     return H, inl

@@ -1,8 +1,10 @@
 """Hypothesis space of planar homographies: four correspondences make one.
 
 Convention: ``x2 ~ H x1`` for correspondences ``(x1, y1, x2, y2)`` (the VPG
-format). Minimal solver: normalised DLT, batched over all samples with one
-``numpy.linalg.svd`` call. Models are normalised so that ``H[2, 2] = 1``.
+format). Minimal solver: the closed-form 4-point homography in the Hartley
+frame of the data, batched over all samples with cofactors (no per-sample
+solve or inverse). Refits: normalised DLT, from the 9 x 9 normal equations.
+Models are normalised so that ``H[2, 2] = 1``.
 """
 
 from __future__ import annotations
@@ -33,23 +35,45 @@ def normalise_points(points, weights=None):
     T : ndarray of shape (..., 3, 3)
         The similarity with ``normalised = T @ points`` (homogeneous).
     """
-    p = np.asarray(points, dtype=float)
-    w = np.ones(p.shape[:-1]) if weights is None else np.asarray(weights, dtype=float)
-    wsum = w.sum(axis=-1, keepdims=True)
-    centre = (w[..., None] * p).sum(axis=-2) / wsum
-    d = np.linalg.norm(p - centre[..., None, :], axis=-1)
-    mean_d = (w * d).sum(axis=-1) / wsum[..., 0]
-    s = np.sqrt(2.0) / np.where(mean_d > 0, mean_d, 1.0)
-    T = np.zeros((*p.shape[:-2], 3, 3))
+    q, centre, s = _centre_scale(np.asarray(points, dtype=float), weights)
+    T = np.zeros((*centre.shape[:-1], 3, 3))
     T[..., 0, 0] = T[..., 1, 1] = s
     T[..., 0, 2] = -s * centre[..., 0]
     T[..., 1, 2] = -s * centre[..., 1]
     T[..., 2, 2] = 1.0
-    return (p - centre[..., None, :]) * s[..., None, None], T
+    q *= s[..., None, None]
+    return q, T
+
+
+def _centre_scale(p, weights=None):
+    """Centred points, centroid and Hartley scale of ``p`` ``(..., N, 2)``.
+
+    Sums are products with the weights (BLAS) rather than reductions over
+    the short last axes, which cost more in numpy than the arithmetic.
+    """
+    if weights is None:
+        n = p.shape[-2]
+        w, wsum = np.full(n, 1.0 / max(n, 1)), 1.0
+    else:
+        w = np.asarray(weights, dtype=float)
+        wsum = w.sum(axis=-1)
+    centre = (w[..., None, :] @ p)[..., 0, :]
+    if weights is not None:
+        centre /= wsum[..., None]
+    q = p - centre[..., None, :]
+    mean_d = (w[..., None, :] @ np.sqrt(q[..., 0] * q[..., 0] + q[..., 1] * q[..., 1])[..., None]
+              )[..., 0, 0] / wsum
+    s = np.sqrt(2.0) / np.where(mean_d > 0, mean_d, 1.0)
+    return q, centre, s
 
 
 def dlt(src, dst, weights=None) -> np.ndarray:
     """Normalised direct linear transform, batched: ``dst ~ H src``.
+
+    After Hartley normalisation of both point sets, ``H`` is the eigenvector
+    of the smallest eigenvalue of the 9 x 9 matrix ``A^T A`` (built from
+    weighted moments of the points, never forming the ``2N x 9`` ``A``), as
+    in OpenCV; fewer than 8 correspondences take the SVD of ``A``.
 
     Parameters
     ----------
@@ -74,36 +98,123 @@ def dlt(src, dst, weights=None) -> np.ndarray:
     d, Td = normalise_points(dst, weights)
     x, y = s[..., 0], s[..., 1]
     u, v = d[..., 0], d[..., 1]
-    one, zero = np.ones_like(x), np.zeros_like(x)
-    r1 = np.stack([-x, -y, -one, zero, zero, zero, u * x, u * y, u], axis=-1)
-    r2 = np.stack([zero, zero, zero, -x, -y, -one, v * x, v * y, v], axis=-1)
-    A = np.concatenate([r1, r2], axis=-2)  # (..., 2N, 9)
-    if weights is not None:
-        sw = np.sqrt(np.asarray(weights, dtype=float))
-        A = A * np.concatenate([sw, sw], axis=-1)[..., None]
-    # the null vector is the last right singular vector; the thin SVD has it
-    # whenever there are at least 9 rows (and never builds the 2N x 2N U)
-    _, _, vt = np.linalg.svd(A, full_matrices=A.shape[-2] < 9)
-    Hn = vt[..., -1, :].reshape(*A.shape[:-2], 3, 3)
-    H = np.linalg.inv(Td) @ Hn @ Ts
-    return H / np.linalg.norm(H, axis=(-2, -1), keepdims=True)
+    if x.shape[-1] < _NORMAL_EQUATIONS_MIN:
+        one, zero = np.ones_like(x), np.zeros_like(x)
+        r1 = np.stack([-x, -y, -one, zero, zero, zero, u * x, u * y, u], axis=-1)
+        r2 = np.stack([zero, zero, zero, -x, -y, -one, v * x, v * y, v], axis=-1)
+        A = np.concatenate([r1, r2], axis=-2)  # (..., 2N, 9)
+        if weights is not None:
+            sw = np.sqrt(np.asarray(weights, dtype=float))
+            A = A * np.concatenate([sw, sw], axis=-1)[..., None]
+        # the null vector is the last right singular vector (of the full V when
+        # there are fewer than 9 rows)
+        _, _, vt = np.linalg.svd(A, full_matrices=A.shape[-2] < 9)
+        Hn = vt[..., -1, :]
+    else:
+        # A^T A from four weighted moments of the monomials of p p^T, p = (x, y, 1):
+        # one (4, N) @ (N, 6) product instead of the (2N, 9) matrix and its SVD
+        w = np.ones_like(x) if weights is None else np.asarray(weights, dtype=float)
+        mono = np.stack([x * x, x * y, x, y * y, y, np.ones_like(x)], axis=-1)
+        wm = np.stack([w, w * u, w * v, w * (u * u + v * v)], axis=-2)
+        m = (wm @ mono).reshape(*x.shape[:-1], 24)
+        _, V = np.linalg.eigh(m[..., _NORMAL_INDEX] * _NORMAL_SIGN)
+        Hn = V[..., :, 0]  # eigenvector of the smallest eigenvalue
+    Hn = Hn.reshape(*x.shape[:-1], 3, 3)
+    H = _similarity_inverse(Td) @ Hn @ Ts
+    return H / np.sqrt(np.sum(H * H, axis=(-2, -1), keepdims=True))
 
 
-def _basis_to_points(p):
-    """``(S, 3, 3)`` matrices mapping the projective basis onto the 4 points ``(S, 4, 2)``."""
-    ph = np.concatenate([p, np.ones((*p.shape[:-1], 1))], axis=-1)  # (S, 4, 3)
-    M = np.swapaxes(ph[:, :3], 1, 2)  # columns p1, p2, p3
-    lam = np.linalg.solve(M, ph[:, 3, :, None])[..., 0]
-    return M * lam[:, None, :]
+def _normal_tables():
+    """Gather table and signs building the 9 x 9 ``A^T A`` of the DLT from its moments.
+
+    With ``r1 = (-p, 0, u p)`` and ``r2 = (0, -p, v p)`` the rows of a match,
+    ``A^T A`` has 3 x 3 blocks ``[[P, 0, -Pu], [0, P, -Pv], [-Pu, -Pv, Puuvv]]``
+    (``P = sum w p p^T``, ``Pu = sum w u p p^T``, ...), each symmetric and
+    stored as the 6 moments of ``xx, xy, x, yy, y, 1``.
+    """
+    sym = np.array([[0, 1, 2], [1, 3, 4], [2, 4, 5]])
+    moment = [[0, None, 1], [None, 0, 2], [1, 2, 3]]
+    sign = [[1.0, 0.0, -1.0], [0.0, 1.0, -1.0], [-1.0, -1.0, 1.0]]
+    index, signs = np.zeros((9, 9), dtype=np.intp), np.zeros((9, 9))
+    for bi in range(3):
+        for bj in range(3):
+            if moment[bi][bj] is not None:
+                index[3 * bi:3 * bi + 3, 3 * bj:3 * bj + 3] = 6 * moment[bi][bj] + sym
+                signs[3 * bi:3 * bi + 3, 3 * bj:3 * bj + 3] = sign[bi][bj]
+    return index, signs
+
+
+_NORMAL_INDEX, _NORMAL_SIGN = _normal_tables()
+
+#: From this many correspondences on, :func:`dlt` solves the 9 x 9 normal
+#: equations (``eigh``) instead of taking the SVD of the ``2N x 9`` matrix.
+_NORMAL_EQUATIONS_MIN = 8
+
+
+def _similarity_inverse(T) -> np.ndarray:
+    """Inverse of the similarities ``(..., 3, 3)`` made by :func:`normalise_points`."""
+    s = T[..., 0, 0]
+    out = np.zeros_like(T)
+    out[..., 0, 0] = out[..., 1, 1] = 1.0 / s
+    out[..., 0, 2] = -T[..., 0, 2] / s
+    out[..., 1, 2] = -T[..., 1, 2] / s
+    out[..., 2, 2] = 1.0
+    return out
+
+
+def _four_point(x, y, u, v, frames=None):
+    """Closed-form 4-point homographies, unnormalised, component-major.
+
+    ``x, y`` (source) and ``u, v`` (destination) have shape ``(4, S)``. With
+    ``M = [p1 p2 p3]`` (homogeneous columns), the rows of ``adj(M)`` are the
+    cross products ``r1 = p2 x p3``, ``r2 = p3 x p1``, ``r3 = p1 x p2`` and
+    ``lam = adj(M) p4`` holds the determinants of the other three triples:
+    ``A = M diag(lam)`` maps the projective basis onto the points (up to
+    scale), ``A^-1 ~ diag(1 / lam) adj(M)``, and ``H = B A^-1`` is
+    ``sum_i mu_i lam_j lam_k q_i r_i^T`` (``mu`` the destination's ``lam``,
+    ``{i, j, k} = {1, 2, 3}``): no solve, no inverse.
+
+    ``frames = (centre1, scale1, centre2, scale2)`` says the points are
+    ``(p - centre) * scale`` of the original ones (Hartley normalisation):
+    ``H`` is then returned in the original frame, ``T2^-1 H T1``, by mapping
+    the ``q_i`` and ``r_i`` (one step each, no 3 x 3 products).
+
+    Returns
+    -------
+    H : ndarray of shape (3, 3, S)
+        ``H[a, b]`` over the samples, arbitrary scale and sign.
+    dets_src, dets_dst : ndarray of shape (4, S)
+        The determinants of the four point triples of each sample (twice the
+        signed triangle areas; up to sign): near zero for collinear triples.
+    """
+    def adjugate(x, y):
+        xa, xb, ya, yb = x[[1, 2, 0]], x[[2, 0, 1]], y[[1, 2, 0]], y[[2, 0, 1]]
+        r = np.stack([ya - yb, xb - xa, xa * yb - xb * ya], axis=1)  # (3 rows, 3, S)
+        lam = r[:, 0] * x[3] + r[:, 1] * y[3] + r[:, 2]
+        d123 = r[0, 0] * x[0] + r[0, 1] * y[0] + r[0, 2]
+        return r, lam, np.concatenate([d123[None], lam])
+
+    r, lam, dets_src = adjugate(x, y)
+    _, mu, dets_dst = adjugate(u, v)
+    c = mu * (lam[[1, 2, 0]] * lam[[2, 0, 1]])
+    u, v = u[:3], v[:3]
+    if frames is not None:
+        (c1x, c1y), s1, (c2x, c2y), s2 = frames
+        r[:, 2] = r[:, 2] / s1 - c1x * r[:, 0] - c1y * r[:, 1]  # r_i^T T1 / s1
+        u, v = u / s2 + c2x, v / s2 + c2y  # T2^-1 q_i
+    cr = c[:, None] * r  # (3 rows i, 3, S)
+    H = np.stack([(u[:, None] * cr).sum(axis=0), (v[:, None] * cr).sum(axis=0),
+                  cr.sum(axis=0)])
+    return H, dets_src, dets_dst
 
 
 def four_point_homography(src, dst) -> np.ndarray:
     """Exact homographies through 4 correspondences, batched, in closed form.
 
     ``H = B A^-1`` where ``A`` (``B``) maps the projective basis onto the four
-    source (destination) points: two batched 3 x 3 solves per sample instead
-    of an SVD of the 8 x 9 DLT matrix. No three points of a sample may be
-    collinear (check first).
+    source (destination) points, written with cofactors (cross products of
+    the points) instead of solves and inverses of 3 x 3 stacks. No three
+    points of a sample may be collinear (check first).
 
     Parameters
     ----------
@@ -123,22 +234,11 @@ def four_point_homography(src, dst) -> np.ndarray:
     >>> np.allclose(est / est[2, 2], H)
     True
     """
-    A = _basis_to_points(np.asarray(src, dtype=float))
-    B = _basis_to_points(np.asarray(dst, dtype=float))
-    H = B @ np.linalg.inv(A)
+    src = np.asarray(src, dtype=float)
+    dst = np.asarray(dst, dtype=float)
+    H = _four_point(src[..., 0].T, src[..., 1].T, dst[..., 0].T, dst[..., 1].T)[0]
+    H = np.moveaxis(H, -1, 0)
     return H / np.linalg.norm(H, axis=(-2, -1), keepdims=True)
-
-
-def _has_collinear_triple(p, tol: float) -> np.ndarray:
-    """True for samples ``(S, 4, 2)`` in which some three points are (nearly) collinear."""
-    out = np.zeros(p.shape[0], bool)
-    scale = max(float(np.max(np.abs(p), initial=0.0)), 1.0) ** 2
-    for i, j, k in ((0, 1, 2), (0, 1, 3), (0, 2, 3), (1, 2, 3)):
-        a, b, c = p[:, i], p[:, j], p[:, k]
-        ab, ac = b - a, c - a
-        cross = ab[:, 0] * ac[:, 1] - ab[:, 1] * ac[:, 0]
-        out |= np.abs(cross) <= tol * scale
-    return out
 
 
 class HomographySpace(HypothesisSpace):
@@ -242,24 +342,31 @@ class HomographySpace(HypothesisSpace):
 
     def solve_minimal(self, data, samples):
         # closed-form 4-point solutions in the data's Hartley frame, mapped back
-        sn, T1 = normalise_points(data[:, :2])
-        dn, T2 = normalise_points(data[:, 2:])
-        src, dst = sn[samples], dn[samples]
-        ok = ~(_has_collinear_triple(src, 1e-9) | _has_collinear_triple(dst, 1e-9))
-        if np.any(ok):
-            H = np.linalg.inv(T2) @ four_point_homography(src[ok], dst[ok]) @ T1
-        else:
-            H = np.empty((0, 3, 3))
-        h33 = H[:, 2, 2]
-        good = np.abs(h33) > 1e-12 * np.abs(H).max(axis=(1, 2))
-        H = H[good] / h33[good, None, None]
-        owner = np.flatnonzero(ok)[good]
+        data = np.asarray(data, dtype=float)
+        idx = np.asarray(samples).T  # (4, S)
+        q1, c1, s1 = _centre_scale(data[:, :2])
+        q2, c2, s2 = _centre_scale(data[:, 2:])
+        x, y = q1[:, 0][idx] * s1, q1[:, 1][idx] * s1
+        u, v = q2[:, 0][idx] * s2, q2[:, 1][idx] * s2
+        H, dets_src, dets_dst = _four_point(x, y, u, v, (c1, s1, c2, s2))  # (3, 3, S)
+        # no three points of a sample (nearly) collinear, on either side
+        tol_src = 1e-9 * max(np.abs(x).max(initial=0.0), np.abs(y).max(initial=0.0), 1.0) ** 2
+        tol_dst = 1e-9 * max(np.abs(u).max(initial=0.0), np.abs(v).max(initial=0.0), 1.0) ** 2
+        ok = ~(np.any(np.abs(dets_src) <= tol_src, axis=0)
+               | np.any(np.abs(dets_dst) <= tol_dst, axis=0))
+        h33 = H[2, 2]
+        ok &= np.abs(h33) > 1e-12 * np.abs(H).max(axis=(0, 1), initial=0.0)
+        owner = np.flatnonzero(ok)
+        H = H[..., owner] / h33[owner]
         # near-singular models (a sample close to degenerate) are no homography:
         # |det H| against Hadamard's bound, a scale-free ratio in [0, 1]
         with np.errstate(all="ignore"):
-            ratio = np.abs(np.linalg.det(H)) / np.prod(np.linalg.norm(H, axis=-1), axis=-1)
-        keep = np.all(np.isfinite(H), axis=(1, 2)) & (ratio > SINGULAR_RATIO)
-        return H[keep], owner[keep]
+            det = (H[0, 0] * (H[1, 1] * H[2, 2] - H[1, 2] * H[2, 1])
+                   - H[0, 1] * (H[1, 0] * H[2, 2] - H[1, 2] * H[2, 0])
+                   + H[0, 2] * (H[1, 0] * H[2, 1] - H[1, 1] * H[2, 0]))
+            ratio = np.abs(det) / np.prod(np.sqrt(np.sum(H * H, axis=1)), axis=0)
+        keep = np.all(np.isfinite(H), axis=(0, 1)) & (ratio > SINGULAR_RATIO)
+        return np.ascontiguousarray(np.moveaxis(H[..., keep], -1, 0)), owner[keep]
 
     def refit(self, data, weights=None, initial=None):
         data = np.asarray(data, dtype=float)
@@ -273,16 +380,18 @@ class HomographySpace(HypothesisSpace):
         if abs(H[2, 2]) <= 1e-12 or not np.all(np.isfinite(H)):
             return None
         H = H / H[2, 2]
-        if np.linalg.matrix_rank(H) < 3:
+        sv = np.linalg.svd(H, compute_uv=False)  # rank < 3 as numpy.linalg.matrix_rank says
+        if sv[-1] <= sv[0] * 3 * np.finfo(float).eps:
             return None
         return H
 
     @staticmethod
     def _transfer(H, src, dst):
-        p = np.einsum("hij,nj->hni", H, np.c_[src, np.ones(len(src))])
-        with np.errstate(divide="ignore", invalid="ignore"):
-            proj = p[..., :2] / p[..., 2:]
-        err = np.linalg.norm(proj - dst[None], axis=-1)
+        p = H[:, :, :2] @ src.T + H[:, :, 2:]  # (H, 3, N)
+        with np.errstate(all="ignore"):
+            d = p[:, :2] / p[:, 2:] - dst.T
+            d *= d
+            err = np.sqrt(d[:, 0] + d[:, 1])
         return np.where(np.isfinite(err), err, np.inf)
 
     def residuals(self, models, data) -> np.ndarray:
