@@ -85,16 +85,22 @@ def symmetric_reprojection_error(H, matches) -> np.ndarray:
 
 
 def _symmetric_error(H, m) -> np.ndarray:
-    """:func:`symmetric_reprojection_error` of checked inputs: both directions in one product."""
-    try:
-        Hinv = np.linalg.inv(H)
-    except np.linalg.LinAlgError:
+    """:func:`symmetric_reprojection_error` of checked inputs: both directions in one product.
+
+    The backward map is the adjugate of ``H`` (``det(H) H^-1``: the same
+    transfer, no inverse call); a singular ``H`` gives ``inf`` everywhere.
+    """
+    (a, b, c), (d, e, f), (g, h, i) = H.tolist()
+    adj = [[e * i - f * h, c * h - b * i, b * f - c * e],
+           [f * g - d * i, a * i - c * g, c * d - a * f],
+           [d * h - e * g, b * g - a * h, a * e - b * d]]
+    if a * adj[0][0] + b * adj[1][0] + c * adj[2][0] == 0:
         return np.full(len(m), np.inf)
     pts = m.T.reshape(2, 2, -1)  # [[x1, y1], [x2, y2]]
-    both = np.stack([H, Hinv])
+    both = np.array([H.tolist(), adj])
     p = both[:, :, :2] @ pts + both[:, :, 2:]  # (2 directions, 3, N)
     with np.errstate(all="ignore"):
-        d = p[:, :2] / p[:, 2:] - pts[::-1]
-        d *= d
-        out = np.sqrt(0.5 * ((d[0, 0] + d[0, 1]) + (d[1, 0] + d[1, 1])))
+        dd = p[:, :2] / p[:, 2:] - pts[::-1]
+        dd *= dd
+        out = np.sqrt(0.5 * ((dd[0, 0] + dd[0, 1]) + (dd[1, 0] + dd[1, 1])))
     return np.where(np.isfinite(out), out, np.inf)

@@ -36,13 +36,18 @@ def normalise_points(points, weights=None):
         The similarity with ``normalised = T @ points`` (homogeneous).
     """
     q, centre, s = _centre_scale(np.asarray(points, dtype=float), weights)
-    T = np.zeros((*centre.shape[:-1], 3, 3))
+    q *= s[..., None, None]
+    return q, _similarity(centre, s)
+
+
+def _similarity(centre, s) -> np.ndarray:
+    """``[[s, 0, -s cx], [0, s, -s cy], [0, 0, 1]]``, batched over ``s`` ``(...)``."""
+    T = np.zeros((*np.shape(s), 3, 3))
     T[..., 0, 0] = T[..., 1, 1] = s
     T[..., 0, 2] = -s * centre[..., 0]
     T[..., 1, 2] = -s * centre[..., 1]
     T[..., 2, 2] = 1.0
-    q *= s[..., None, None]
-    return q, T
+    return T
 
 
 def _centre_scale(p, weights=None):
@@ -94,10 +99,14 @@ def dlt(src, dst, weights=None) -> np.ndarray:
     >>> np.allclose(est / est[2, 2], H)
     True
     """
-    s, Ts = normalise_points(src, weights)
-    d, Td = normalise_points(dst, weights)
-    x, y = s[..., 0], s[..., 1]
-    u, v = d[..., 0], d[..., 1]
+    return _dlt(np.stack([np.asarray(src, dtype=float), np.asarray(dst, dtype=float)]), weights)
+
+
+def _dlt(points, weights=None) -> np.ndarray:
+    """:func:`dlt` of ``points = [src, dst]`` ``(2, ..., N, 2)``, both normalised in one pass."""
+    q, centre, s = _centre_scale(points, weights)
+    q *= s[..., None, None]
+    x, y, u, v = q[0, ..., 0], q[0, ..., 1], q[1, ..., 0], q[1, ..., 1]
     if x.shape[-1] < _NORMAL_EQUATIONS_MIN:
         one, zero = np.ones_like(x), np.zeros_like(x)
         r1 = np.stack([-x, -y, -one, zero, zero, zero, u * x, u * y, u], axis=-1)
@@ -119,9 +128,16 @@ def dlt(src, dst, weights=None) -> np.ndarray:
         m = (wm @ mono).reshape(*x.shape[:-1], 24)
         _, V = np.linalg.eigh(m[..., _NORMAL_INDEX] * _NORMAL_SIGN)
         Hn = V[..., :, 0]  # eigenvector of the smallest eigenvalue
+    # back to pixels: T_dst^-1 Hn T_src
     Hn = Hn.reshape(*x.shape[:-1], 3, 3)
-    H = _similarity_inverse(Td) @ Hn @ Ts
-    return H / np.sqrt(np.sum(H * H, axis=(-2, -1), keepdims=True))
+    if Hn.ndim == 2:  # one problem: the frames from floats cost less than array arithmetic
+        (csx, csy), (cdx, cdy) = centre.tolist()
+        ss, sd = s.tolist()
+        G = (np.array([[1.0, 0.0, sd * cdx], [0.0, 1.0, sd * cdy], [0.0, 0.0, sd]]) @ Hn
+             @ np.array([[1.0, 0.0, -csx], [0.0, 1.0, -csy], [0.0, 0.0, 1.0 / ss]]))
+    else:
+        G = _similarity_inverse(_similarity(centre[1], s[1])) @ Hn @ _similarity(centre[0], s[0])
+    return G / np.sqrt(np.sum(G * G, axis=(-2, -1), keepdims=True))
 
 
 def _normal_tables():
@@ -291,8 +307,7 @@ class HomographySpace(HypothesisSpace):
         from ..geometry.homography_frame import HomographyInFrame
 
         data = check_points(matches, "matches", dim=4, min_count=cls.min_samples)
-        _, T1 = normalise_points(data[:, :2])
-        _, T2 = normalise_points(data[:, 2:])
+        T1, T2 = normalise_points(data.reshape(-1, 2, 2).transpose(1, 0, 2))[1]
         space = cls(residual=residual, normalization="h33")
         space._manifold = HomographyInFrame(T1, T2, metric=metric, normalization=normalization,
                                             screen=screen)
@@ -344,11 +359,11 @@ class HomographySpace(HypothesisSpace):
         # closed-form 4-point solutions in the data's Hartley frame, mapped back
         data = np.asarray(data, dtype=float)
         idx = np.asarray(samples).T  # (4, S)
-        q1, c1, s1 = _centre_scale(data[:, :2])
-        q2, c2, s2 = _centre_scale(data[:, 2:])
-        x, y = q1[:, 0][idx] * s1, q1[:, 1][idx] * s1
-        u, v = q2[:, 0][idx] * s2, q2[:, 1][idx] * s2
-        H, dets_src, dets_dst = _four_point(x, y, u, v, (c1, s1, c2, s2))  # (3, 3, S)
+        # both point sets normalised in one batched pass
+        q, c, (s1, s2) = _centre_scale(data.reshape(-1, 2, 2).transpose(1, 0, 2))
+        x, y = q[0, :, 0][idx] * s1, q[0, :, 1][idx] * s1
+        u, v = q[1, :, 0][idx] * s2, q[1, :, 1][idx] * s2
+        H, dets_src, dets_dst = _four_point(x, y, u, v, (c[0], s1, c[1], s2))  # (3, 3, S)
         # no three points of a sample (nearly) collinear, on either side
         tol_src = 1e-9 * max(np.abs(x).max(initial=0.0), np.abs(y).max(initial=0.0), 1.0) ** 2
         tol_dst = 1e-9 * max(np.abs(u).max(initial=0.0), np.abs(v).max(initial=0.0), 1.0) ** 2
@@ -359,13 +374,15 @@ class HomographySpace(HypothesisSpace):
         owner = np.flatnonzero(ok)
         H = H[..., owner] / h33[owner]
         # near-singular models (a sample close to degenerate) are no homography:
-        # |det H| against Hadamard's bound, a scale-free ratio in [0, 1]
+        # |det H| against Hadamard's bound (the product of the row norms), a
+        # scale-free ratio in [0, 1], compared squared; a non-finite entry makes
+        # the comparison false
         with np.errstate(all="ignore"):
             det = (H[0, 0] * (H[1, 1] * H[2, 2] - H[1, 2] * H[2, 1])
                    - H[0, 1] * (H[1, 0] * H[2, 2] - H[1, 2] * H[2, 0])
                    + H[0, 2] * (H[1, 0] * H[2, 1] - H[1, 1] * H[2, 0]))
-            ratio = np.abs(det) / np.prod(np.sqrt(np.sum(H * H, axis=1)), axis=0)
-        keep = np.all(np.isfinite(H), axis=(0, 1)) & (ratio > SINGULAR_RATIO)
+            rows2 = np.sum(H * H, axis=1)
+            keep = det * det > SINGULAR_RATIO**2 * (rows2[0] * rows2[1] * rows2[2])
         return np.ascontiguousarray(np.moveaxis(H[..., keep], -1, 0)), owner[keep]
 
     def refit(self, data, weights=None, initial=None):

@@ -44,13 +44,17 @@ def sample_subsets(n_data: int, size: int, n_samples: int, *, rng=None) -> np.nd
     if size > n_data:
         raise ValueError(f"size: cannot draw {size} distinct indices from {n_data}")
     g = as_generator(rng)
-    out = np.empty((n_samples, size), dtype=np.intp)
+    out = np.empty((size, n_samples), dtype=np.intp)  # column-major while filling
     for j in range(size):
         top = n_data - size + j  # draw from [0, top]
         r = g.integers(0, top + 1, size=n_samples)
-        taken = np.any(out[:, :j] == r[:, None], axis=1) if j else np.zeros(n_samples, bool)
-        out[:, j] = np.where(taken, top, r)
-    return out
+        if j:
+            taken = out[0] == r
+            for k in range(1, j):
+                taken |= out[k] == r
+            r[taken] = top
+        out[j] = r
+    return out.T.copy()
 
 
 def enumerate_hypotheses(space: HypothesisSpace, data) -> HypothesisSet:
