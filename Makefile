@@ -11,6 +11,9 @@ STAMP  := $(VENV)/.installed
 export UV_PYTHON_DOWNLOADS := never
 export OPEN3D_DISABLE_WEB_VISUALIZER := true
 export PYDEVD_DISABLE_FILE_VALIDATION := 1
+# The library multiplies many small matrices: OpenBLAS's worker threads cost more than
+# they give there (3-10x slower on a busy 2-core machine). Results do not depend on it.
+export OPENBLAS_NUM_THREADS ?= 1
 
 .PHONY: all book test lint unit nbval bench lock system clean
 
