@@ -253,15 +253,67 @@ class Landmark2DSpace(HypothesisSpace):
         if initial is None or len(data) < 2:
             return None
         w = np.ones(len(data)) if weights is None else np.asarray(weights, dtype=float)
-        if self.range_noise is not None:
-            r2 = np.einsum("ij,ij->i", data[:, 1:], data[:, 1:])
-            w = w / (self.range_noise[0] + self.range_noise[1] * r2) ** 2
+        w = self._noise_weights(w, data)
         distance, target = self._nearest_landmarks(self._world(initial, data),
                                                    data[:, 0].astype(int))
         if not np.all(np.isfinite(distance)):
             return None  # some observation type has no landmark in the map
-        target = target[0]
-        src = data[:, 1:]
+        return self._kabsch(data[:, 1:], target[0], w)
+
+    def refit_steps(self, data, threshold: float):
+        """Inlier test and refit sharing one association pass per pose.
+
+        The functions ``inliers(model)`` and ``refit(inliers, model)`` give
+        the results of :func:`~clap_unified.refine.inliers_of` and
+        ``refit(data[inliers], initial=model)``; the refit reuses the nearest
+        landmarks found for the inlier test of the same model instead of
+        searching them again (see :func:`~clap_unified.refine.refit_on_inliers`).
+
+        Examples
+        --------
+        >>> from clap_unified.localization import load_field
+        >>> space = Landmark2DSpace(load_field("adult"))
+        >>> marks = space.field.positions[:4]
+        >>> truth = SE2.from_xytheta(1.0, 2.0, 0.1)
+        >>> local = (np.linalg.inv(truth) @ np.c_[marks, np.ones(4)].T).T[:, :2]
+        >>> obs = np.c_[space._type_ids[:4], local]
+        >>> inliers, refit = space.refit_steps(obs, 0.3)
+        >>> start = SE2.from_xytheta(1.05, 1.95, 0.12)
+        >>> inl = inliers(start)
+        >>> bool(np.array_equal(refit(inl, start), space.refit(obs[inl], initial=start)))
+        True
+        """
+        data = np.asarray(data, dtype=float)
+        ids = data[:, 0].astype(int)
+        w_all = self._noise_weights(np.ones(len(data)), data)
+        last = [None, None]  # model of the latest inlier test and its nearest landmarks
+
+        def inliers(model):
+            distance, target = self._nearest_landmarks(self._world(model, data), ids)
+            last[0], last[1] = model, target[0]
+            return distance[0] < threshold
+
+        def refit(inl, model):
+            if last[0] is not model:
+                return self.refit(data[inl], initial=model)
+            sub = data[inl]
+            if len(sub) < 2:
+                return None
+            # inliers lie within the threshold of a landmark: every target exists
+            return self._kabsch(sub[:, 1:], last[1][inl], w_all[inl])
+
+        return inliers, refit
+
+    def _noise_weights(self, w, data):
+        """``w`` times the range-noise weights ``1 / sigma(r)**2`` of the observations."""
+        if self.range_noise is None:
+            return w
+        r2 = np.einsum("ij,ij->i", data[:, 1:], data[:, 1:])
+        return w / (self.range_noise[0] + self.range_noise[1] * r2) ** 2
+
+    @staticmethod
+    def _kabsch(src, target, w):
+        """Weighted 2D Kabsch pose taking ``src`` onto ``target``; None when degenerate."""
         cs, ct = (w @ src) / w.sum(), (w @ target) / w.sum()
         S = ((src - cs).T * w) @ (target - ct)
         if np.linalg.norm(S) <= 1e-12:
