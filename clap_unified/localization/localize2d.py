@@ -39,6 +39,8 @@ LOCALIZE_METHODS = ("clap", "ransac", "hough")
 #: Hough grid: 0.25 m x 0.25 m x 5 degrees.
 HOUGH_CELL = (0.25, 0.25, np.radians(5.0))
 
+_SE2 = SE2()  # validates poses (the angle weight plays no part)
+
 
 def as_pose(pose, name: str = "prior") -> np.ndarray:
     """A pose from ``(x, y, theta)`` or a 3 x 3 SE(2) matrix.
@@ -53,7 +55,7 @@ def as_pose(pose, name: str = "prior") -> np.ndarray:
         if not np.all(np.isfinite(arr)):
             raise ValueError(f"{name}: expected finite x, y, theta, got {arr.tolist()}")
         return SE2.from_xytheta(*arr)
-    return SE2().validate(arr, name)
+    return _SE2.validate(arr, name)
 
 
 def observation_data(observations) -> np.ndarray:

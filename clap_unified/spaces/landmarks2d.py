@@ -106,6 +106,7 @@ class Landmark2DSpace(HypothesisSpace):
         a, b = np.nonzero(~np.eye(len(field.positions), dtype=bool))  # ordered map pairs
         self._map_pairs = (a, b, np.linalg.norm(field.positions[b] - field.positions[a], axis=1),
                            self._type_ids[a], self._type_ids[b])
+        self._pairs = {}  # n -> upper-triangle index pairs of n associated observations
 
     def __repr__(self) -> str:
         return f"Landmark2DSpace(field={self.field.name!r}, tol={self.distance_tolerance:g})"
@@ -115,7 +116,12 @@ class Landmark2DSpace(HypothesisSpace):
         return self._manifold
 
     def check_data(self, data) -> np.ndarray:
-        obs = check_points(data, "observations", dim=3, min_count=self.min_samples)
+        if (type(data) is np.ndarray and data.dtype == np.float64 and data.ndim == 2
+                and data.shape[1] == 3 and len(data) >= self.min_samples
+                and np.isfinite(data).all()):
+            obs = data  # already what check_points returns (it would not copy)
+        else:
+            obs = check_points(data, "observations", dim=3, min_count=self.min_samples)
         ids = obs[:, 0]
         if np.any((ids != np.round(ids)) | (ids < 0) | (ids >= len(LANDMARK_TYPES))):
             raise ValueError("observations: column 0 must be a type id in "
@@ -142,12 +148,21 @@ class Landmark2DSpace(HypothesisSpace):
         theta = (np.arctan2(*(n - m)[:, ::-1].T) - np.arctan2(*(q - p)[:, ::-1].T))
         c, sn = np.cos(theta), np.sin(theta)
         mid_obs, mid_map = (p + q) / 2, (m + n) / 2
-        t = mid_map - np.stack([c * mid_obs[:, 0] - sn * mid_obs[:, 1],
-                                sn * mid_obs[:, 0] + c * mid_obs[:, 1]], axis=1)
+        tx = mid_map[:, 0] - (c * mid_obs[:, 0] - sn * mid_obs[:, 1])
+        ty = mid_map[:, 1] - (sn * mid_obs[:, 0] + c * mid_obs[:, 1])
         if self.bounds is not None:
-            inside = (np.abs(t[:, 0]) <= self.bounds[0]) & (np.abs(t[:, 1]) <= self.bounds[1])
-            t, theta, owner = t[inside], theta[inside], owner[inside]
-        return SE2.from_xytheta(t[:, 0], t[:, 1], theta), owner
+            inside = (np.abs(tx) <= self.bounds[0]) & (np.abs(ty) <= self.bounds[1])
+            if not inside.all():
+                tx, ty, theta, owner = tx[inside], ty[inside], theta[inside], owner[inside]
+                c, sn = c[inside], sn[inside]
+        if not (np.isfinite(tx).all() and np.isfinite(ty).all() and np.isfinite(theta).all()):
+            return SE2.from_xytheta(tx, ty, theta), owner  # raises, naming the value
+        # SE2.from_xytheta(tx, ty, theta) from the cosines and sines already at hand
+        T = np.zeros((len(theta), 3, 3))
+        T[:, 0, 0], T[:, 0, 1], T[:, 0, 2] = c, -sn, tx
+        T[:, 1, 0], T[:, 1, 1], T[:, 1, 2] = sn, c, ty
+        T[:, 2, 2] = 1.0
+        return T, owner
 
     def associate(self, data, pose, gate: float) -> np.ndarray:
         """Map landmark of each observation under ``pose``: the nearest of its type.
@@ -163,8 +178,7 @@ class Landmark2DSpace(HypothesisSpace):
         diff = world[:, None, :] - self.field.positions[None]
         d2 = np.einsum("nmk,nmk->nm", diff, diff)
         d2[data[:, 0].astype(int)[:, None] != self._type_ids[None]] = np.inf
-        nearest = d2.argmin(axis=1)
-        return np.where(d2[np.arange(len(data)), nearest] <= gate**2, nearest, -1)
+        return np.where(d2.min(axis=1) <= gate**2, d2.argmin(axis=1), -1)
 
     def local_hypotheses(self, data, pose, gate: float) -> HypothesisSet:
         """Candidates consistent with a prior: one pose per pair of associated observations.
@@ -191,8 +205,10 @@ class Landmark2DSpace(HypothesisSpace):
         data = np.asarray(data, dtype=float)
         mark = self.associate(data, pose, gate)
         idx = np.flatnonzero(mark >= 0)
-        i, j = np.triu_indices(len(idx), 1)
-        i, j = idx[i], idx[j]
+        pairs = self._pairs.get(len(idx))
+        if pairs is None:
+            pairs = self._pairs[len(idx)] = np.triu_indices(len(idx), 1)
+        i, j = idx[pairs[0]], idx[pairs[1]]
         maps = self.field.positions
         sep_obs = np.linalg.norm(data[j, 1:] - data[i, 1:], axis=1)
         sep_map = np.linalg.norm(maps[mark[j]] - maps[mark[i]], axis=1)
@@ -200,7 +216,7 @@ class Landmark2DSpace(HypothesisSpace):
         i, j = i[ok], j[ok]
         models, owner = self._poses(data[i, 1:], data[j, 1:], mark[i], mark[j],
                                     np.arange(len(i)))
-        samples = np.c_[i, j][owner]
+        samples = np.stack((i, j), axis=1)[owner]
         n_pairs = len(data) * (len(data) - 1) // 2
         return HypothesisSet(models, samples, n_pairs, n_pairs - len(models), True, self)
 
