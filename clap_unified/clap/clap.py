@@ -160,12 +160,12 @@ def clap(space, data, *, hypotheses: HypothesisSet | None = None, n_hypotheses: 
             return fail(f"only {len(near)} hypotheses within radius {radius:g} of initial_guess "
                         f"(min_support={min_support})")
         if full is not None:
-            sub = full[np.ix_(near + 1, near + 1)]
+            sub = full.take(near + 1, axis=0).take(near + 1, axis=1)
         else:
             sub = manifold.pairwise_distance(models[near]) if centre == "medoid" else None
         if centre == "medoid" and rejection == "trim":  # all from the one matrix
             b, keep = trimmed_medoid_index(sub, rounds=rounds, discard_fraction=discard_fraction)
-            clusters.append(Cluster(models[near[b]], len(near), float(np.median(sub[b, keep])),
+            clusters.append(Cluster(models[near[b]], len(near), _median(sub[b, keep]),
                                     near[keep]))
         else:
             c, keep = _robust_centre(manifold, models[near], distances=sub, **robust)
@@ -198,7 +198,7 @@ def clap(space, data, *, hypotheses: HypothesisSet | None = None, n_hypotheses: 
                                                discard_fraction=discard_fraction)
                 d_centre = dist[near[b]]  # the medoid is a hypothesis: its row is known
                 c = models[near[b]]
-                spread = float(np.median(d_centre[near[keep]]))
+                spread = _median(d_centre[near[keep]])
             else:
                 c, keep = _robust_centre(manifold, models[near], distances=sub, **robust)
                 d_centre = manifold.distance(c, models)
@@ -228,6 +228,16 @@ def clap(space, data, *, hypotheses: HypothesisSet | None = None, n_hypotheses: 
     diag["seconds"] = time.perf_counter() - t0
     return ConsensusResult("clap", True, "ok", model, inliers, support, float(best.support),
                            clusters, diag, space)
+
+
+def _median(values) -> float:
+    """``float(np.median(values))`` of a 1-D array, by one sort (few values, a hot path)."""
+    v = np.sort(values)
+    n = len(v)
+    if n == 0 or np.isnan(v[-1]):
+        return float(np.median(values))  # NaN (and NumPy's warning when empty)
+    h = n // 2
+    return float(v[h]) if n % 2 else float((v[h - 1] + v[h]) / 2)
 
 
 def _cluster(manifold, c, models, members, support=None) -> Cluster:

@@ -6,6 +6,8 @@ of hypotheses farthest from the current centre.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from .._validation import check_fraction, check_int, check_positive
@@ -89,16 +91,17 @@ def trimmed_medoid_index(distances, *, rounds: int = 5, discard_fraction: float 
         raise ValueError(f"distances: expected shape ({n}, {n}), got {dist.shape}")
     idx = np.arange(n)
     members = np.ones(n, bool)
-    best = int(np.argmin(dist @ np.full(n, 1.0 / n)))
+    best = int((dist @ np.full(n, 1.0 / n)).argmin())
     for _ in range(rounds):
-        keep = max(min_members, int(np.ceil(len(idx) * (1.0 - discard_fraction))))
+        keep = max(min_members, math.ceil(len(idx) * (1.0 - discard_fraction)))
         if keep >= len(idx):
             break
+        idx = idx[dist[best, idx].argsort(kind="stable")[:keep]]
+        idx.sort()  # the new members in index order
         members[:] = False
-        members[idx[np.argsort(dist[best, idx], kind="stable")[:keep]]] = True
-        idx = np.flatnonzero(members)
+        members[idx] = True
         # mean distance of each member to the members (non-members weigh zero)
-        best = int(idx[np.argmin(dist[idx] @ (members / keep))])
+        best = int(idx[(dist[idx] @ (members / keep)).argmin()])
     return best, members
 
 
