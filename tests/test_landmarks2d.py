@@ -79,3 +79,25 @@ def test_refit_uses_associations_and_bad_observations_are_named():
         space.check_data(np.array([[9.0, 0, 0], [0.0, 1, 1]]))
     with pytest.raises(ValueError, match="unknown type"):
         observations_array([{"type": "corner", "x": 0, "y": 0}])
+
+
+class _PlainRefit(Landmark2DSpace):
+    refit_steps = None  # refit_on_inliers falls back to inliers_of + refit
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_shared_association_refit_equals_the_plain_refit(seed):
+    from clap_unified.refine import refit_on_inliers
+
+    rng = np.random.default_rng(seed)
+    truth = SE2.from_xytheta(rng.uniform(-4, 4), rng.uniform(-3, 3), rng.uniform(-3, 3))
+    data = observe(truth, rng.choice(len(FIELD.positions), 6, replace=False), n_false=3,
+                   seed=seed)
+    start = truth @ SE2.from_xytheta(0.2, -0.1, 0.08)
+    fast, plain = Landmark2DSpace(FIELD), _PlainRefit(FIELD)
+    for threshold in (0.1, 0.3, 1.0):
+        model, inliers = refit_on_inliers(fast, start, data, threshold)
+        model0, inliers0 = refit_on_inliers(plain, start, data, threshold)
+        assert np.array_equal(model, model0) and np.array_equal(inliers, inliers0)
+    with pytest.raises(ValueError, match="observations: contains"):
+        fast.check_data(np.r_[data, [[0.0, np.nan, 1.0]]])

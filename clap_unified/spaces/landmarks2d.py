@@ -285,6 +285,20 @@ class Landmark2DSpace(HypothesisSpace):
         landmarks found for the inlier test of the same model instead of
         searching them again (see :func:`~clap_unified.refine.refit_on_inliers`).
 
+        Parameters
+        ----------
+        data : ndarray of shape (N, 3)
+            Observations ``(type_id, x, y)``.
+        threshold : float
+            Inlier distance to a landmark of the same type (metres).
+
+        Returns
+        -------
+        inliers : callable
+            ``inliers(model) -> ndarray of bool, shape (N,)``.
+        refit : callable
+            ``refit(inliers, model) -> ndarray of shape (3, 3) or None``.
+
         Examples
         --------
         >>> from clap_unified.localization import load_field
@@ -292,7 +306,8 @@ class Landmark2DSpace(HypothesisSpace):
         >>> marks = space.field.positions[:4]
         >>> truth = SE2.from_xytheta(1.0, 2.0, 0.1)
         >>> local = (np.linalg.inv(truth) @ np.c_[marks, np.ones(4)].T).T[:, :2]
-        >>> obs = np.c_[space._type_ids[:4], local]
+        >>> ids = [LANDMARK_TYPES.index(t) for t in space.field.types[:4]]
+        >>> obs = np.c_[ids, local]
         >>> inliers, refit = space.refit_steps(obs, 0.3)
         >>> start = SE2.from_xytheta(1.05, 1.95, 0.12)
         >>> inl = inliers(start)
