@@ -157,6 +157,7 @@ def test_randomized_hough_recentre_handles_chart_seam():
 def test_auto_bandwidth_shortcut_equals_full_knn_quantile(quantile, seed):
     # the low-quantile shortcut must return exactly np.quantile of every row's k-NN
     from clap_unified.clap import auto_bandwidth
+    from clap_unified.clap.density import _low_quantile_of_knn
 
     rng = np.random.default_rng(seed)
     n = int(rng.integers(64, 500))
@@ -167,6 +168,9 @@ def test_auto_bandwidth_shortcut_equals_full_knn_quantile(quantile, seed):
     k = max(3, int(np.ceil(0.01 * n)))
     full = float(np.quantile(np.partition(D, k, axis=1)[:, k], quantile))
     got = auto_bandwidth(None, pts, quantile=quantile, distances=D)
+    if 0 < quantile <= 0.05 and seed != 3:
+        # the shortcut itself is taken here (not only the full partition behind it)
+        assert _low_quantile_of_knn(D, k, quantile) == full
     if full > 0:
         assert got == full
     else:

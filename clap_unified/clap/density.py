@@ -96,14 +96,11 @@ def auto_bandwidth(manifold, points, *, k: int | None = None, quantile: float = 
     if k is None:
         k = max(3, int(np.ceil(0.01 * len(pts))))
     k = min(k, len(pts) - 1)
-    bw = None
-    if distances is not None:
-        bw = _low_quantile_of_knn(distances, k, quantile)
+    bw = None if distances is None else _low_quantile_of_knn(distances, k, quantile)
+    d = None
     if bw is None:
         d = knn_distance(manifold, pts, k, distances=distances)
         bw = float(np.quantile(d, quantile))
-    else:
-        d = None
     if bw > 0:
         return bw
     if d is None:

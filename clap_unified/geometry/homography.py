@@ -61,14 +61,14 @@ def normalise_h33(H, name: str = "H") -> np.ndarray:
     return H / h33[..., None, None]
 
 
-def _check_invertible(H, name: str) -> np.ndarray:
+def _check_invertible(H, name: str, det=None) -> np.ndarray:
     """Determinants of ``(..., 3, 3)`` matrices; ``ValueError`` if some is singular.
 
     Singular means ``|det H| <= 1e-13 prod_i |row_i|`` (Hadamard's bound makes
     the ratio scale-free, in [0, 1]); such a matrix is no homography and has no
-    logarithm.
+    logarithm. ``det`` may be given when the caller has it already.
     """
-    det = np.linalg.det(H)
+    det = np.linalg.det(H) if det is None else det
     bound = np.prod(np.linalg.norm(H, axis=-1), axis=-1)
     bad = ~(np.abs(det) > 1e-13 * bound)
     if np.any(bad):

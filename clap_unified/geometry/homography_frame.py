@@ -40,11 +40,6 @@ from .homography import Homography, _check_invertible, normalise_h33
 __all__ = ["HomographyInFrame"]
 
 
-def _normalise_det(H) -> np.ndarray:
-    """Scale to determinant 1 (real cube root, so the sign is fixed too)."""
-    return H / np.cbrt(np.linalg.det(H))[..., None, None]
-
-
 def _first_order(Ainv, A, B, Binv) -> np.ndarray:
     """Symmetrised first-order distances ``(e_ij + e'_ij) / 2`` for all pairs.
 
@@ -146,12 +141,8 @@ class HomographyInFrame(Homography):
         """Normalised-frame representatives and their inverses (adjugate over determinant)."""
         Hn = self.T2 @ check_array(H, name, shape=(Ellipsis, 3, 3)) @ self.T1inv
         det, adj = _det_adjugate(Hn)
-        bound = np.prod(np.linalg.norm(Hn, axis=-1), axis=-1)
-        bad = ~(np.abs(det) > 1e-13 * bound)
-        if np.any(bad):
-            raise ValueError(f"{name}: {int(np.sum(bad))} singular matrix(es) (det = 0), "
-                             "not a homography")
-        if self.normalization == "det":
+        _check_invertible(Hn, name, det=det)
+        if self.normalization == "det":  # real cube root: determinant 1, sign fixed too
             c = np.cbrt(det)[..., None, None]
             return Hn / c, adj / (c * c)
         h = Hn[..., 2:, 2:]
