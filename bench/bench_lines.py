@@ -82,7 +82,7 @@ def main(argv=None) -> None:
     args = parser.parse_args(argv)
 
     scene = line_scene(args.points, args.outliers, noise=args.noise, rng=args.seed)
-    pts = scene.points
+    pts, truth = scene.input.points, scene.truth  # methods see pts; truth only scores
     space = LineSpace.for_data(pts)
     t = 3.0 * args.noise
     h = args.hypotheses
@@ -102,7 +102,7 @@ def main(argv=None) -> None:
         fn()  # warm-up: imports, caches
         CountingLineModel.calls = 0
         med, best, model = time_runs(fn, args.repeat)
-        stats[name] = (med, best, float(line_errors(model, scene.line)[0]))
+        stats[name] = (med, best, float(line_errors(model, truth.line)[0]))
         if name == "skimage.measure.ransac":
             sk_trials = CountingLineModel.calls // args.repeat - 1
 

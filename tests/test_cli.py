@@ -17,7 +17,7 @@ def run(args, capsys):
 
 @pytest.mark.parametrize("method", ["hough", "ransac", "clap"])
 def test_fit_line_prints_json(tmp_path, capsys, method):
-    pts, _ = line_scene(n=200, outlier_ratio=0.5, seed=1)
+    pts = line_scene(n=200, outlier_ratio=0.5, seed=1).input.points
     f = tmp_path / "pts.csv"
     np.savetxt(f, pts, delimiter=",", header="x,y", comments="")
     code, out, err = run(["fit", "line", str(f), "--method", method, "--seed", "3",
@@ -32,7 +32,7 @@ def test_fit_line_prints_json(tmp_path, capsys, method):
 
 
 def test_same_seed_same_output(tmp_path, capsys):
-    pts, _ = line_scene(seed=2)
+    pts = line_scene(seed=2).input.points
     f = tmp_path / "p.csv"
     np.savetxt(f, pts, delimiter=",")
     outs = [json.loads(run(["fit", "line", str(f), "--seed", "5"], capsys)[1]) for _ in range(2)]

@@ -13,7 +13,8 @@ from clap_unified.spaces import LineSpace, generate_hypotheses
 
 
 def test_clap_recovers_line_with_70_percent_outliers_within_one_degree():
-    pts, inlier = line_scene(n=300, outlier_ratio=0.7, seed=11)
+    scene = line_scene(n=300, outlier_ratio=0.7, seed=11)
+    pts, inlier = scene.input.points, scene.truth.is_inlier
     space = LineSpace.for_data(pts)
     res = clap(space, pts, n_hypotheses=2000, residual_threshold=0.06, rng=5)
     assert res.success
@@ -27,7 +28,7 @@ def test_clap_recovers_line_with_70_percent_outliers_within_one_degree():
 
 @pytest.mark.parametrize("method", ["hough", "randomized_hough", "ransac", "clap"])
 def test_every_method_fits_a_clean_line_at_50_percent_outliers(method):
-    pts, _ = line_scene(n=200, outlier_ratio=0.5, seed=2)
+    pts = line_scene(n=200, outlier_ratio=0.5, seed=2).input.points
     res = fit_line(pts, method, residual_threshold=0.06, rng=0)
     angle, offset = line_errors(res.space, res.model)
     assert res.success and angle < 1.0 and offset < 0.05
@@ -35,7 +36,7 @@ def test_every_method_fits_a_clean_line_at_50_percent_outliers(method):
 
 @pytest.mark.parametrize("method", ["randomized_hough", "ransac", "clap"])
 def test_same_seed_same_result_bit_for_bit(method):
-    pts, _ = line_scene(seed=4)
+    pts = line_scene(seed=4).input.points
     a = fit_line(pts, method, rng=9)
     b = fit_line(pts, method, rng=9)
     np.testing.assert_array_equal(a.model, b.model)
@@ -43,7 +44,7 @@ def test_same_seed_same_result_bit_for_bit(method):
 
 
 def test_compare_uses_identical_hypotheses():
-    pts, _ = line_scene(seed=3)
+    pts = line_scene(seed=3).input.points
     out = compare(LineSpace.for_data(pts), pts, n_hypotheses=500, residual_threshold=0.06, rng=1)
     assert set(out) == {"randomized_hough", "ransac", "clap"}
     assert all(r.success for r in out.values())
@@ -52,8 +53,8 @@ def test_compare_uses_identical_hypotheses():
 
 
 def test_clap_reports_both_lines_as_clusters():
-    a, _ = line_scene(n=150, outlier_ratio=0.0, theta=0.3, intercept=1.0, seed=1)
-    b, _ = line_scene(n=100, outlier_ratio=0.0, theta=-1.0, intercept=-2.0, seed=2)
+    a = line_scene(n=150, outlier_ratio=0.0, theta=0.3, intercept=1.0, seed=1).input.points
+    b = line_scene(n=100, outlier_ratio=0.0, theta=-1.0, intercept=-2.0, seed=2).input.points
     pts = np.r_[a, b]
     space = LineSpace.for_data(pts)
     res = clap(space, pts, n_hypotheses=2000, residual_threshold=0.06, rng=0)
@@ -66,8 +67,8 @@ def test_clap_reports_both_lines_as_clusters():
 
 
 def test_clap_local_mode_uses_the_guess():
-    a, _ = line_scene(n=150, outlier_ratio=0.0, theta=0.3, intercept=1.0, seed=1)
-    b, _ = line_scene(n=100, outlier_ratio=0.0, theta=-1.0, intercept=-2.0, seed=2)
+    a = line_scene(n=150, outlier_ratio=0.0, theta=0.3, intercept=1.0, seed=1).input.points
+    b = line_scene(n=100, outlier_ratio=0.0, theta=-1.0, intercept=-2.0, seed=2).input.points
     pts = np.r_[a, b]
     space = LineSpace.for_data(pts)
     hs = generate_hypotheses(space, pts, 2000, rng=0)
@@ -84,7 +85,7 @@ def test_clap_local_mode_uses_the_guess():
 @pytest.mark.parametrize("centre", ["medoid", "karcher", "log_euclidean", "split", "median"])
 @pytest.mark.parametrize("rejection", ["trim", "mad", "none"])
 def test_clap_centres_and_rejections(centre, rejection):
-    pts, _ = line_scene(n=200, outlier_ratio=0.4, seed=6)
+    pts = line_scene(n=200, outlier_ratio=0.4, seed=6).input.points
     space = LineSpace.for_data(pts)
     res = clap(space, pts, n_hypotheses=800, centre=centre, rejection=rejection,
                residual_threshold=0.06, rng=2)
@@ -115,7 +116,7 @@ def test_failures_are_values_with_reasons():
 
 
 def test_ransac_adaptive_stops_early_on_clean_data():
-    pts, _ = line_scene(n=200, outlier_ratio=0.1, seed=8)
+    pts = line_scene(n=200, outlier_ratio=0.1, seed=8).input.points
     res = ransac(LineSpace(), pts, max_trials=1000, confidence=0.99, residual_threshold=0.06,
                  batch_size=10, rng=0)
     fixed = ransac(LineSpace(), pts, max_trials=1000, residual_threshold=0.06, rng=0)
@@ -125,7 +126,7 @@ def test_ransac_adaptive_stops_early_on_clean_data():
 
 
 def test_msac_score_prefers_tighter_fit():
-    pts, _ = line_scene(n=200, outlier_ratio=0.3, seed=5)
+    pts = line_scene(n=200, outlier_ratio=0.3, seed=5).input.points
     res = ransac(LineSpace(), pts, score="msac", residual_threshold=0.06, rng=0)
     assert res.score <= 0 and line_errors(res.space, res.model)[0] < 1.0
 
@@ -146,7 +147,7 @@ def test_hough_peaks_find_two_lines_and_wrap_at_vertical():
 
 def test_randomized_hough_recentre_handles_chart_seam():
     # a horizontal line has theta = pi/2, on the seam of the chart at theta = 0
-    pts, _ = line_scene(n=200, outlier_ratio=0.5, theta=0.0, intercept=0.5, seed=3)
+    pts = line_scene(n=200, outlier_ratio=0.5, theta=0.0, intercept=0.5, seed=3).input.points
     space = LineSpace.for_data(pts)
     res = randomized_hough(space, pts, cell_size=0.1, residual_threshold=0.06, rng=0)
     assert line_errors(space, res.model, 0.0, 0.5)[0] < 1.0

@@ -6,17 +6,23 @@ top of a chapter fixes print precision and figure style (which is what keeps
 notebook outputs stable under ``pytest --nbval``), and the ``plot_*`` helpers
 draw on a Matplotlib ``Axes`` the chapter passes in. The backend is never
 touched here.
+
+:func:`line_scene` returns a :class:`LineScene` split into ``input`` (the
+noisy points, the only thing an estimator gets) and ``truth`` (labels and
+true lines, for scoring).
 """
 
 from .field import LANDMARK_STYLE, draw_detections, draw_field, draw_pose
 from .plots import plot_accumulator, plot_error_curves, plot_hypotheses, plot_points_and_lines
-from .scenes import LineScene, line_errors, line_scene
+from .scenes import LineInput, LineScene, LineTruth, line_errors, line_scene
 from .style import METHOD_STYLE, book_style, format_table
 
 __all__ = [
     "LANDMARK_STYLE",
     "METHOD_STYLE",
+    "LineInput",
     "LineScene",
+    "LineTruth",
     "book_style",
     "draw_detections",
     "draw_field",

@@ -1,7 +1,10 @@
 """Synthetic line scenes with ground truth, and the errors the book reports.
 
 These are teaching data, not estimators: points on a known line with
-Gaussian noise across it, plus uniform outliers in a square.
+Gaussian noise across it, plus uniform outliers in a square. A scene keeps
+what an estimator may see (:class:`LineInput`, the noisy points) apart from
+what scores it (:class:`LineTruth`, labels and true lines), as every loader
+of the package does (:mod:`clap_unified.datatypes`).
 """
 
 from __future__ import annotations
@@ -11,40 +14,95 @@ from dataclasses import dataclass
 import numpy as np
 
 from .._validation import as_generator, check_fraction, check_int, check_positive
+from ..datatypes import freeze_arrays
 from ..geometry.lines import Line2D, canonical_lines
 
-__all__ = ["DEFAULT_LINE", "LineScene", "line_errors", "line_scene"]
+__all__ = ["DEFAULT_LINE", "LineInput", "LineScene", "LineTruth", "line_errors", "line_scene"]
 
 #: The line ``y = 0.3 x + 1`` as ``(theta, rho)``.
 DEFAULT_LINE = (np.pi / 2 + np.arctan(0.3), np.cos(np.arctan(0.3)))
 
 
 @dataclass(frozen=True)
-class LineScene:
-    """Points drawn from known lines plus outliers.
+class LineInput:
+    """What an estimator may see of a line scene: the noisy points, nothing else.
 
     Attributes
     ----------
     points : ndarray of shape (N, 2)
+        Noisy inliers and outliers in random order (read-only).
+    """
+
+    points: np.ndarray
+
+    def __post_init__(self):
+        freeze_arrays(self)
+
+
+@dataclass(frozen=True)
+class LineTruth:
+    """Evaluation data of a line scene, for scoring only.
+
+    Attributes
+    ----------
     label : ndarray of int, shape (N,)
-        Index of the line a point was drawn from, ``-1`` for an outlier.
+        Index of the line each input point was drawn from, ``-1`` for an
+        outlier (read-only, aligned with :attr:`LineInput.points`).
     lines : ndarray of shape (L, 2)
         The true lines ``(theta, rho)``, canonical (``theta`` in ``[0, pi)``).
     """
 
-    points: np.ndarray
     label: np.ndarray
     lines: np.ndarray
 
+    def __post_init__(self):
+        freeze_arrays(self)
+
     @property
     def is_inlier(self) -> np.ndarray:
-        """True for points drawn from a line."""
+        """True for points drawn from a line (a new array)."""
         return self.label >= 0
 
     @property
     def line(self) -> np.ndarray:
         """The first true line (the only one in a single-line scene)."""
         return self.lines[0]
+
+
+@dataclass(frozen=True)
+class LineScene:
+    """A synthetic line scene, split into estimator input and evaluation data.
+
+    Pass ``scene.input.points`` to an estimator; score its answer with
+    ``scene.truth``. The scene has no shortcut to either part's fields, so an
+    experiment has to say which one it uses.
+
+    Attributes
+    ----------
+    input : LineInput
+        The noisy points.
+    truth : LineTruth
+        Labels and true lines.
+
+    Examples
+    --------
+    >>> from dataclasses import fields
+    >>> scene = line_scene(10, 0.5, rng=0)
+    >>> [f.name for f in fields(scene.input)]
+    ['points']
+    >>> scene.input.points.flags.writeable
+    False
+    """
+
+    input: LineInput
+    truth: LineTruth
+
+    def __post_init__(self):
+        if not isinstance(self.input, LineInput) or not isinstance(self.truth, LineTruth):
+            raise TypeError("LineScene: expected a LineInput and a LineTruth")
+        if len(self.input.points) != len(self.truth.label):
+            raise ValueError(f"LineScene: {len(self.input.points)} points but "
+                             f"{len(self.truth.label)} labels")
 
 
 def line_scene(n: int = 200, outlier_ratio: float = 0.5, *, lines=(DEFAULT_LINE,),
@@ -75,15 +133,18 @@ def line_scene(n: int = 200, outlier_ratio: float = 0.5, *, lines=(DEFAULT_LINE,
     Returns
     -------
     LineScene
-        Points in random order.
+        ``input.points``: the noisy points in random order, the only thing to
+        give an estimator; ``truth``: their labels and the true lines. The
+        noise-free positions of the inliers are not kept anywhere.
 
     Examples
     --------
     >>> scene = line_scene(100, 0.3, rng=0)
-    >>> scene.points.shape, int(scene.is_inlier.sum())
+    >>> points, truth = scene.input.points, scene.truth
+    >>> points.shape, int(truth.is_inlier.sum())
     ((100, 2), 70)
     >>> from clap_unified.spaces import LineSpace
-    >>> res = LineSpace().residuals(scene.line, scene.points[scene.is_inlier])
+    >>> res = LineSpace().residuals(truth.line, points[truth.is_inlier])
     >>> bool(res.max() < 5 * 0.05)
     True
     """
@@ -115,7 +176,7 @@ def line_scene(n: int = 200, outlier_ratio: float = 0.5, *, lines=(DEFAULT_LINE,
     label.append(np.full(n_out, -1))
     pts, label = np.concatenate(pts), np.concatenate(label)
     order = g.permutation(n)
-    return LineScene(pts[order], label[order], true)
+    return LineScene(LineInput(pts[order]), LineTruth(label[order], true))
 
 
 def line_errors(models, truth):
