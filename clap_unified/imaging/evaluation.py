@@ -2,8 +2,10 @@
 
 Shared by the image-stitching chapter and ``bench/bench_homography.py``: one
 row per (pair, method) with wall time, the paper's Lie distance to the ground
-truth, mean corner error, inlier count, ratio of ground-truth inliers kept
-and the median symmetric reprojection error on the ground-truth inliers.
+truth, mean corner error, inlier count, ratio of ground-truth inliers kept,
+the median symmetric reprojection error on the ground-truth inliers and on
+the validation points. Estimators see a pair's ``input`` only; its ``truth``
+scores them.
 """
 
 from __future__ import annotations
@@ -13,6 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .datasets.homography_benchmarks import HomographyInput, HomographyTruth
 from .estimate import estimate_homography
 from .metrics import corner_error, lie_error, symmetric_reprojection_error
 
@@ -29,25 +32,30 @@ EVALUATED = {
 }
 
 
-def evaluate_pair(matches, H_gt, *, size=None, quality=None, gt_inliers=None, methods=None,
-                  seed: int = 0, repeat: int = 1, **options) -> list[dict]:
-    """Run each method on ``matches`` and score it against ``H_gt``.
+def evaluate_pair(pair, *, size=None, methods=None, seed: int = 0, repeat: int = 1,
+                  **options) -> list[dict]:
+    """Run each method on ``pair.input`` and score it against ``pair.truth``.
+
+    The estimators see ``pair.input.matches`` (and ``pair.input.quality`` for
+    the ordered variants) and nothing else; ``pair.truth`` is read only to
+    score their estimates.
 
     Parameters
     ----------
-    matches : ndarray of shape (N, 4)
-    H_gt : ndarray of shape (3, 3)
+    pair : HomographyPair or PairMatches
+        Anything with ``input`` (``matches``, ``quality``) and ``truth``
+        (``H``, ``inliers``, ``validation``), e.g. from
+        :func:`~clap_unified.imaging.datasets.load_homogr`,
+        :func:`~clap_unified.imaging.datasets.load_evd` or
+        :func:`vpg_pair_matches`.
     size : (width, height), optional
         Source image size for the corner error (default: the bounding box of
         the source points).
-    quality : ndarray of shape (N,), optional
-        Match quality for the ordered variants (skipped when None).
-    gt_inliers : ndarray of bool, optional
-        Ground-truth inliers for the SRE and recall (default: SRE < 3 px under
-        ``H_gt``).
     methods : dict, optional
         ``label -> (estimator, uses_quality)``; default :data:`EVALUATED`.
+        Ordered variants are skipped when the pair has no quality.
     seed : int
+        Seed of the library's estimators.
     repeat : int
         Runs per method; the time is the median.
     options
@@ -56,14 +64,28 @@ def evaluate_pair(matches, H_gt, *, size=None, quality=None, gt_inliers=None, me
     Returns
     -------
     list of dict
-        Keys ``method, seconds, lie, corner, inliers, recall, sre``.
+        Keys ``method, seconds, lie, corner, inliers, recall, sre, validation,
+        success``: ``recall`` is the fraction of ``truth.inliers`` within 3 px
+        (symmetric) of the estimate, ``sre`` the median symmetric
+        reprojection error on them, ``validation`` the median symmetric
+        reprojection error on ``truth.validation`` (NaN when it is empty).
+
+    Raises
+    ------
+    ValueError
+        ``pair`` without ``input`` and ``truth``, or ``repeat`` below 1.
     """
+    if not (hasattr(pair, "input") and hasattr(pair, "truth")):
+        raise ValueError("pair: expected an object with 'input' and 'truth' (a loader's result)")
+    if int(repeat) < 1:
+        raise ValueError(f"repeat: expected at least 1, got {repeat}")
     methods = EVALUATED if methods is None else methods
-    m = np.asarray(matches, dtype=float)
+    m = pair.input.matches
+    quality = pair.input.quality
+    H_gt, gt_inliers = pair.truth.H, np.asarray(pair.truth.inliers, dtype=bool)
+    validation = np.asarray(pair.truth.validation, dtype=float).reshape(-1, 4)
     if size is None:
         size = tuple(np.ceil(m[:, :2].max(0)))
-    if gt_inliers is None:
-        gt_inliers = symmetric_reprojection_error(H_gt, m) < 3.0
     rows = []
     for label, (name, ordered) in methods.items():
         if ordered and quality is None:
@@ -87,10 +109,16 @@ def evaluate_pair(matches, H_gt, *, size=None, quality=None, gt_inliers=None, me
             recall, sre = float("nan"), float("nan")
         else:
             recall, sre = 0.0, float("inf")
+        if not len(validation):
+            val = float("nan")
+        elif H is None:
+            val = float("inf")
+        else:
+            val = float(np.median(symmetric_reprojection_error(H, validation)))
         rows.append({"method": label, "seconds": float(np.median(times)),
                      "lie": lie_error(H, H_gt), "corner": corner_error(H, H_gt, size),
                      "inliers": res.n_inliers, "recall": recall, "sre": sre,
-                     "success": bool(res.success)})
+                     "validation": val, "success": bool(res.success)})
     return rows
 
 
@@ -102,33 +130,71 @@ def summarise(rows, key: str) -> dict:
     return {k: float(np.median(v)) for k, v in out.items()}
 
 
-@dataclass
+@dataclass(frozen=True)
 class PairMatches:
-    """SIFT matches of one image pair of a VPG-layout set, with its ground truth."""
+    """SIFT matches of one image pair of a VPG-layout set, split into input and truth.
+
+    Attributes
+    ----------
+    scene : str
+        The set's name ``"Sxx"``.
+    pair : (int, int)
+        1-based image indices.
+    input : HomographyInput
+        ``matches`` and ``quality`` (SIFT ratio) computed from the images,
+        ``image_a`` / ``image_b`` the image files.
+    truth : HomographyTruth or None
+        ``H``: DLT fit to the set's ground-truth correspondences;
+        ``inliers``: SIFT matches within 3 px (symmetric) of ``H``;
+        ``validation``: the ground-truth correspondences themselves. None for
+        pairs without ground truth (VPG S13-S36).
+    """
 
     scene: str
     pair: tuple
-    left: np.ndarray
-    right: np.ndarray
-    matches: np.ndarray
-    quality: np.ndarray
-    H_gt: np.ndarray | None
+    input: HomographyInput
+    truth: HomographyTruth | None
+
+    @property
+    def name(self) -> str:
+        """``"Sxx i-j"``."""
+        return f"{self.scene} {self.pair[0]}-{self.pair[1]}"
 
 
 def vpg_pair_matches(vpg_set, *, ratio: float = 0.75) -> list[PairMatches]:
     """SIFT + ratio-test matches of every pair of a VPG-layout set.
 
-    ``H_gt`` is the DLT fit to the set's ground-truth correspondences
-    (``mNN-MM.txt``), or None for pairs without them (VPG S13-S36).
+    Parameters
+    ----------
+    vpg_set : VPGSet
+        From :func:`~clap_unified.imaging.datasets.load_vpg_set`; only its
+        ``input`` (images) makes the matches, its ``truth`` scores them.
+    ratio : float
+        Lowe's ratio test.
+
+    Returns
+    -------
+    list of PairMatches
+        One per pair of ``vpg_set.pairs()``.
+
+    Raises
+    ------
+    FileNotFoundError
+        An image of a pair is missing.
     """
     from .features import read_image, sift_matches
 
     out = []
+    images = vpg_set.input.images
     for i, j in vpg_set.pairs():
-        if i not in vpg_set.images or j not in vpg_set.images:
+        if i not in images or j not in images:
             raise FileNotFoundError(f"{vpg_set.path}: images {i:02d} and {j:02d} are needed")
-        left, right = read_image(vpg_set.images[i]), read_image(vpg_set.images[j])
-        m, q = sift_matches(left, right, ratio=ratio)
-        H = vpg_set.ground_truth(i, j) if (i, j) in vpg_set.correspondences else None
-        out.append(PairMatches(vpg_set.name, (i, j), left, right, m, q, H))
+        m, q = sift_matches(read_image(images[i]), read_image(images[j]), ratio=ratio)
+        inp = HomographyInput(m, q, str(images[i]), str(images[j]))
+        truth = None
+        if (i, j) in vpg_set.truth.correspondences:
+            H = vpg_set.truth.H(i, j)
+            inliers = symmetric_reprojection_error(H, m) < 3.0 if len(m) else np.zeros(0, bool)
+            truth = HomographyTruth(H, inliers, vpg_set.truth.correspondences[(i, j)])
+        out.append(PairMatches(vpg_set.name, (i, j), inp, truth))
     return out

@@ -1,17 +1,29 @@
 """Image datasets: manifests and loaders (nothing large is committed).
 
 * :mod:`.sources`: mirror / cache / public source lookup with sha256 checks;
+Every loader returns a frozen object whose ``input`` is what an estimator may
+see and whose ``truth`` is evaluation data (:mod:`clap_unified.datatypes`).
+
 * :mod:`.homography_benchmarks`: homogr and EVD pairs with ground truth;
 * :mod:`.vpg`: the VPG stitching dataset layout;
 * :mod:`.synthetic_vpg`: a VPG-layout set from scikit-image photographs and
   textures, pure-rotation cameras, exact ground truth.
 """
 
-from .homography_benchmarks import HomographyPair, evd_names, homogr_names, load_evd, load_homogr
+from .homography_benchmarks import (
+    HomographyInput,
+    HomographyPair,
+    HomographyTruth,
+    evd_names,
+    homogr_names,
+    load_evd,
+    load_homogr,
+)
 from .sources import fetch, load_manifest
-from .synthetic_vpg import SCENES, make_synthetic_vpg
-from .vpg import VPGSet, list_vpg_sets, load_vpg_set, vpg_root
+from .synthetic_vpg import SCENES, load_synthetic_vpg, make_synthetic_vpg
+from .vpg import VPGInput, VPGSet, VPGTruth, list_vpg_sets, load_vpg_set, vpg_root
 
-__all__ = ["SCENES", "HomographyPair", "VPGSet", "evd_names", "fetch", "homogr_names",
-           "list_vpg_sets", "load_evd", "load_homogr", "load_manifest", "load_vpg_set",
+__all__ = ["SCENES", "HomographyInput", "HomographyPair", "HomographyTruth", "VPGInput",
+           "VPGSet", "VPGTruth", "evd_names", "fetch", "homogr_names", "list_vpg_sets",
+           "load_evd", "load_homogr", "load_manifest", "load_synthetic_vpg", "load_vpg_set",
            "make_synthetic_vpg", "vpg_root"]

@@ -12,6 +12,17 @@ The files follow the VPG layout (:mod:`.vpg`): ``Sxx/NN.jpg``,
 ``mNN-MM.txt`` for every edge of the chain ``1-2, 2-3, ...``,
 ``camera-NN.txt`` (rotation, position ``0,0,0``) and
 ``Sxx-STITCH-GRAPH.txt``; ``synthetic.json`` adds ``K`` and the scene.
+
+What is input and what is evaluation data: the generator writes no matches
+for an estimator, only the images and the **exact** (noise-free, outlier-free)
+ground-truth correspondences, the camera rotations and ``K``. All of these
+but the images and the matching graph are evaluation data. The estimator's
+matches come from the JPEG images (SIFT and the ratio test, with their
+outliers: :func:`clap_unified.imaging.evaluation.vpg_pair_matches`).
+:func:`load_synthetic_vpg` writes the sets and reads them back as
+:class:`~clap_unified.imaging.datasets.vpg.VPGSet` objects, whose ``input``
+holds the images and the graph and whose ``truth`` the correspondences and
+cameras.
 """
 
 from __future__ import annotations
@@ -23,7 +34,7 @@ import numpy as np
 
 from ..._validation import as_generator, check_int
 
-__all__ = ["SCENES", "make_synthetic_vpg", "scene_picture", "true_homography"]
+__all__ = ["SCENES", "load_synthetic_vpg", "make_synthetic_vpg", "scene_picture", "true_homography"]
 
 #: Scene of each generated set, in order: photographs, then repetitive textures.
 SCENES = ("astronaut", "coffee", "chelsea", "rocket", "hubble_deep_field", "motorcycle_left",
@@ -139,7 +150,8 @@ def make_synthetic_vpg(root, *, scenes=SCENES, images_per_set: int = 3,
     >>> with tempfile.TemporaryDirectory() as d:
     ...     [p] = make_synthetic_vpg(d, scenes=["brick"], images_per_set=2)
     ...     s = load_vpg_set(p)
-    ...     print(s.name, sorted(s.images), s.pairs(), s.correspondences[(1, 2)].shape)
+    ...     print(s.name, sorted(s.input.images), s.pairs(),
+    ...           s.truth.correspondences[(1, 2)].shape)
     S01 [1, 2] [(1, 2)] (120, 4)
     """
     import cv2
@@ -192,3 +204,34 @@ def make_synthetic_vpg(root, *, scenes=SCENES, images_per_set: int = 3,
         (folder / "synthetic.json").write_text(json.dumps(meta, indent=1))
         out.append(folder)
     return out
+
+
+def load_synthetic_vpg(root, **options) -> list:
+    """Write the synthetic sets under ``root`` and read them back, split into input and truth.
+
+    Parameters
+    ----------
+    root : path
+        Where to write (see :func:`make_synthetic_vpg`).
+    **options
+        Passed to :func:`make_synthetic_vpg` (``scenes``, ``images_per_set``,
+        ``rng``, ...).
+
+    Returns
+    -------
+    list of VPGSet
+        One per scene: ``input.images`` and ``input.graph`` for the
+        estimator, ``truth.correspondences`` (exact), ``truth.cameras`` and
+        ``truth.H(i, j)`` for scoring.
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     [s] = load_synthetic_vpg(d, scenes=["brick"], images_per_set=2)
+    ...     print(s.name, sorted(s.input.images), s.truth.H(1, 2).shape)
+    S01 [1, 2] (3, 3)
+    """
+    from .vpg import load_vpg_set
+
+    return [load_vpg_set(f) for f in make_synthetic_vpg(root, **options)]

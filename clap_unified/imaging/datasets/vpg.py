@@ -6,7 +6,8 @@ correspondences, S13-S36 real):
 
 * ``NN.jpg``: the images, ``NN`` from ``01``;
 * ``mNN-MM.txt``: ground-truth correspondences between images NN and MM, one
-  per line ``x1,y1,x2,y2`` (point in NN, point in MM);
+  per line ``x1,y1,x2,y2`` (point in NN, point in MM): evaluation data, in
+  ``VPGSet.truth``, never an estimator's input;
 * ``camera-NN.txt``: a 3 x 3 rotation (three lines) then the camera position
   (one line), comma separated;
 * ``Sxx-STITCH-GRAPH.txt``: ``{key | value | description}`` lines: the
@@ -26,59 +27,128 @@ from __future__ import annotations
 import os
 import re
 import zipfile
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
+from types import MappingProxyType
 
 import numpy as np
 
+from ...datatypes import readonly
 from .sources import _download, cache_dir, load_manifest, mirror_dir
 
-__all__ = ["VPGSet", "list_vpg_sets", "load_vpg_set", "read_camera", "read_correspondences",
-           "read_stitch_graph", "vpg_root"]
+__all__ = ["VPGInput", "VPGSet", "VPGTruth", "list_vpg_sets", "load_vpg_set", "read_camera",
+           "read_correspondences", "read_stitch_graph", "vpg_root"]
 
 _SET = re.compile(r"S\d{2}")
 
 
-@dataclass
+def _frozen_mapping(d: dict) -> MappingProxyType:
+    """A read-only view of ``d`` whose arrays (also inside tuples) are read-only copies."""
+    def ro(v):
+        if isinstance(v, np.ndarray):
+            return readonly(v)
+        if isinstance(v, tuple):
+            return tuple(ro(x) for x in v)
+        return v
+    return MappingProxyType({k: ro(v) for k, v in d.items()})
+
+
+@dataclass(frozen=True)
+class VPGInput:
+    """What a stitching method may see of a VPG set: the images and the matching graph.
+
+    Attributes
+    ----------
+    images : mapping of int to Path
+        Image files by 1-based index (may be empty when only text is present).
+    graph : mapping
+        ``center``, ``count``, ``edges`` (list of 1-based index pairs) and the
+        raw ``{key: value}`` ``entries`` of ``Sxx-STITCH-GRAPH.txt``.
+    """
+
+    images: Mapping = field(default_factory=dict)
+    graph: Mapping = field(default_factory=dict)
+
+    def __post_init__(self):
+        object.__setattr__(self, "images", _frozen_mapping(self.images))
+        graph = dict(self.graph)
+        if "edges" in graph:
+            graph["edges"] = tuple(tuple(e) for e in graph["edges"])
+        if "entries" in graph:
+            graph["entries"] = MappingProxyType(dict(graph["entries"]))
+        object.__setattr__(self, "graph", _frozen_mapping(graph))
+
+
+@dataclass(frozen=True)
+class VPGTruth:
+    """Evaluation data of a VPG set: never input to an estimator.
+
+    Attributes
+    ----------
+    correspondences : mapping of (int, int) to ndarray of shape (N, 4)
+        The ground-truth correspondences ``mNN-MM.txt`` by ``(NN, MM)``
+        (read-only; S01-S12 only).
+    cameras : mapping of int to (ndarray (3, 3), ndarray (3,))
+        Rotation and position of each camera file (read-only).
+    """
+
+    correspondences: Mapping = field(default_factory=dict)
+    cameras: Mapping = field(default_factory=dict)
+
+    def __post_init__(self):
+        object.__setattr__(self, "correspondences", _frozen_mapping(self.correspondences))
+        object.__setattr__(self, "cameras", _frozen_mapping(self.cameras))
+
+    def H(self, i: int, j: int) -> np.ndarray:
+        """``H_gt`` mapping image ``i`` to image ``j``: DLT fit to ``mII-JJ.txt``.
+
+        Raises
+        ------
+        ValueError
+            The set has no ground-truth correspondences for ``(i, j)``.
+        """
+        from ...spaces.homography import dlt
+
+        if (i, j) not in self.correspondences:
+            raise ValueError(f"(i, j): no ground-truth correspondences m{i:02d}-{j:02d}.txt")
+        m = self.correspondences[(i, j)]
+        H = dlt(m[:, :2], m[:, 2:])
+        return readonly(H / H[2, 2])
+
+
+@dataclass(frozen=True)
 class VPGSet:
-    """One set of the VPG layout.
+    """One set of the VPG layout: the ``input`` a method may use, the ``truth`` that scores it.
+
+    VPG's ``mNN-MM.txt`` files hold the **ground-truth** correspondences of
+    the synthetic sets S01-S12 (exact, or in the generated stand-in exact up to
+    6 decimals): they define ``H_gt`` and are evaluation data. A method's input
+    is the images (and the matching graph, which only says which images
+    overlap); its matches come from the images (SIFT, see
+    :func:`clap_unified.imaging.evaluation.vpg_pair_matches`). Camera files
+    give the true rotations and are evaluation data too.
 
     Attributes
     ----------
     name : str
         ``"Sxx"``.
     path : Path
-    images : dict of int to Path
-        Image files by 1-based index (may be empty when only text is present).
-    correspondences : dict of (int, int) to ndarray of shape (N, 4)
-        Ground-truth correspondences ``mNN-MM.txt`` by ``(NN, MM)``.
-    cameras : dict of int to (ndarray (3, 3), ndarray (3,))
-        Rotation and position of each camera file.
-    graph : dict
-        ``center``, ``count``, ``edges`` (list of 1-based index pairs) and the
-        raw ``{key: value}`` entries.
+    input : VPGInput
+        ``images``, ``graph``.
+    truth : VPGTruth
+        ``correspondences``, ``cameras``; ``truth.H(i, j)`` is the ground-truth
+        homography.
     """
 
     name: str
     path: Path
-    images: dict = field(default_factory=dict)
-    correspondences: dict = field(default_factory=dict)
-    cameras: dict = field(default_factory=dict)
-    graph: dict = field(default_factory=dict)
+    input: VPGInput
+    truth: VPGTruth
 
     def pairs(self) -> list[tuple[int, int]]:
         """Image pairs with ground-truth correspondences, else the graph's edges."""
-        return sorted(self.correspondences) or list(self.graph.get("edges", []))
-
-    def ground_truth(self, i: int, j: int) -> np.ndarray:
-        """``H_gt`` mapping image ``i`` to image ``j``: DLT fit to ``mII-JJ.txt``."""
-        from ...spaces.homography import dlt
-
-        if (i, j) not in self.correspondences:
-            raise ValueError(f"{self.name}: no ground-truth correspondences m{i:02d}-{j:02d}.txt")
-        m = self.correspondences[(i, j)]
-        H = dlt(m[:, :2], m[:, 2:])
-        return H / H[2, 2]
+        return sorted(self.truth.correspondences) or list(self.input.graph.get("edges", []))
 
 
 def _read_rows(path: Path, width: int, what: str) -> np.ndarray:
@@ -144,21 +214,41 @@ def read_stitch_graph(path) -> dict:
 
 
 def load_vpg_set(path) -> VPGSet:
-    """Read one set folder ``Sxx/`` (any of its files may be absent but the graph)."""
+    """Read one set folder ``Sxx/`` (any of its files may be absent but the graph).
+
+    Parameters
+    ----------
+    path : path
+        The set folder, named ``Sxx``.
+
+    Returns
+    -------
+    VPGSet
+        ``input``: the images and the matching graph; ``truth``: the
+        ground-truth correspondences and the cameras.
+
+    Raises
+    ------
+    FileNotFoundError
+        No ``Sxx-STITCH-GRAPH.txt`` in ``path``.
+    ValueError
+        A malformed correspondence, camera or graph file (named).
+    """
     path = Path(path)
     name = path.name
     graph_file = path / f"{name}-STITCH-GRAPH.txt"
     if not graph_file.is_file():
         raise FileNotFoundError(f"{path}: no {graph_file.name}; not a VPG set folder")
-    s = VPGSet(name, path, graph=read_stitch_graph(graph_file))
+    graph = read_stitch_graph(graph_file)
+    images, correspondences, cameras = {}, {}, {}
     for f in sorted(path.iterdir()):
         if m := re.fullmatch(r"(\d{2})\.(jpg|png)", f.name):
-            s.images[int(m.group(1))] = f
+            images[int(m.group(1))] = f
         elif m := re.fullmatch(r"m(\d{2})-(\d{2})\.txt", f.name):
-            s.correspondences[(int(m.group(1)), int(m.group(2)))] = read_correspondences(f)
+            correspondences[(int(m.group(1)), int(m.group(2)))] = read_correspondences(f)
         elif m := re.fullmatch(r"camera-(\d{2})\.txt", f.name):
-            s.cameras[int(m.group(1))] = read_camera(f)
-    return s
+            cameras[int(m.group(1))] = read_camera(f)
+    return VPGSet(name, path, VPGInput(images, graph), VPGTruth(correspondences, cameras))
 
 
 def list_vpg_sets(root) -> list[str]:
