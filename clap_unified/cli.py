@@ -28,6 +28,7 @@ COMMANDS = [
     "clap_unified.localization.cli",
     "clap_unified.localization.cli3d",
     "clap_unified.imaging.cli",
+    "clap_unified.reproduce.cli",
 ]
 
 

@@ -1,0 +1,15 @@
+"""Regenerating the paper: experiments, claims with verdicts, figures, one command.
+
+``clap-unified reproduce [--quick] [--out DIR] [--jobs N] [--scheduler ADDRESS]``
+runs every registered experiment (:data:`EXPERIMENTS`), judges every claim of
+the paper (:data:`CLAIMS`) and writes ``claims.json``, ``claims.md``, the CSV
+tables and the figures into ``DIR`` (:func:`reproduce`).
+"""
+
+from . import exp_homography, exp_localization  # noqa: F401  (register the experiments)
+from .claims import CLAIMS, VERDICTS, evaluate_claims
+from .registry import EXPERIMENTS, seed_for
+from .runner import MissingDataError, Reproduction, claims_markdown, reproduce
+
+__all__ = ["CLAIMS", "EXPERIMENTS", "VERDICTS", "MissingDataError", "Reproduction",
+           "claims_markdown", "evaluate_claims", "reproduce", "seed_for"]

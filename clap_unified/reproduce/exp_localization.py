@@ -1,0 +1,198 @@
+"""Localization experiments: the paper's 3D error CDF and the predecessor's 2D results.
+
+* ``localization3d``: Sec. "3D Localization Results". Typed landmark
+  detections along a MoCap-like trajectory in a lab map with a growing share
+  of false detections; CLAP and RANSAC score the same SE(3) candidates from
+  detection triplets. The paper used MoCap recordings that are not public:
+  the simulator of :mod:`clap_unified.localization.scene3d` stands in.
+* ``localization2d``: the predecessor paper (CLAP, RoboCup). Global
+  localization on the AdultSize field with false detections, and the field's
+  180 degree symmetry as two equally supported clusters.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .registry import experiment, progress
+
+#: A pose is correct within this translation (m) and rotation (deg) error.
+OK_TRANSLATION, OK_ROTATION = 0.10, 2.0
+#: A pose is a spurious solution beyond this translation (m) or rotation (deg) error.
+GROSS_TRANSLATION, GROSS_ROTATION = 0.5, 10.0
+
+
+def _rates(errors) -> dict:
+    e = np.asarray(errors, dtype=float).reshape(-1, 2)
+    ok = (e[:, 0] < OK_TRANSLATION) & (e[:, 1] < OK_ROTATION)
+    gross = ~((e[:, 0] <= GROSS_TRANSLATION) & (e[:, 1] <= GROSS_ROTATION))
+    return {"n": len(e), "ok": float(ok.mean()), "gross": float(gross.mean()),
+            "median_cm": float(np.median(e[:, 0]) * 100)}
+
+
+def _inf_to_none(x: float):
+    return None if not np.isfinite(x) else float(x)
+
+
+# ------------------------------------------------------------------------- 3D
+def run_localization3d(params: dict, seed: int) -> dict:
+    from ..localization.localize3d import localize3d, pose_errors
+    from ..localization.map3d import lab_map
+    from ..localization.scene3d import mocap_trajectory, simulate_detections
+    from ..spaces import generate_hypotheses
+
+    lab = lab_map()
+    space = lab.space()
+    trajectory = mocap_trajectory(params["frames"], rng=np.random.default_rng([seed, 0]))
+    rows = []
+    jobs = [(i, o, f) for i, o in enumerate(params["ratios"]) for f in range(params["frames"])]
+    for i, o, f in progress(jobs, "localization3d"):
+        det = simulate_detections(lab, trajectory[f], outlier_ratio=o,
+                                  rng=np.random.default_rng([seed, 1, i, f]))
+        hyps = generate_hypotheses(space, det.input.data, params["candidates"],
+                                   rng=np.random.default_rng([seed, 2, i, f]))
+        for method in ("clap", "ransac"):
+            r = localize3d(det.input.data, lab, method=method, space=space, hypotheses=hyps,
+                           rng=np.random.default_rng([seed, 3, i, f]))
+            e_t, e_r = pose_errors(r.model, det.truth.pose) if r else (np.inf, np.inf)
+            rows.append({"outlier_ratio": o, "frame": f, "method": method,
+                         "detections": len(det), "e_t_m": _inf_to_none(e_t),
+                         "e_r_deg": _inf_to_none(e_r)})
+    numbers = {}
+    for o in params["ratios"]:
+        for method in ("clap", "ransac"):
+            e = [(r["e_t_m"] if r["e_t_m"] is not None else np.inf,
+                  r["e_r_deg"] if r["e_r_deg"] is not None else np.inf)
+                 for r in rows if r["outlier_ratio"] == o and r["method"] == method]
+            numbers[f"{method}@{o:.2f}"] = _rates(e)
+    return {"data": "simulated typed 3D landmark detections (24-landmark lab map, MoCap-like "
+                    "trajectory): substitute for the paper's MoCap recordings, which are not "
+                    "public",
+            "tables": {"errors": rows}, "numbers": numbers}
+
+
+def figures_localization3d(output: dict) -> dict:
+    import matplotlib.pyplot as plt
+
+    rows = output["tables"]["errors"]
+    ratios = sorted({r["outlier_ratio"] for r in rows})
+    fig, axes = plt.subplots(2, len(ratios), figsize=(2.6 * len(ratios), 5.0), sharey=True,
+                             squeeze=False)
+    for j, o in enumerate(ratios):
+        for method, style in (("clap", "C3"), ("ransac", "C0")):
+            sel = [r for r in rows if r["outlier_ratio"] == o and r["method"] == method]
+            for k, key, scale in ((0, "e_t_m", 100.0), (1, "e_r_deg", 1.0)):
+                v = np.sort([r[key] * scale if r[key] is not None else np.inf for r in sel])
+                axes[k, j].step(v, np.arange(1, len(v) + 1) / len(v), where="post",
+                                color=style, label=method.upper())
+                axes[k, j].set_xscale("log")
+        axes[0, j].set_title(f"{o:.0%} false detections", fontsize=9)
+        axes[0, j].set_xlabel("translation error [cm]")
+        axes[1, j].set_xlabel("rotation error [deg]")
+    axes[0, 0].set_ylabel("fraction of frames")
+    axes[1, 0].set_ylabel("fraction of frames")
+    axes[0, 0].legend(fontsize=8)
+    fig.suptitle("3D localization error CDF (" + output["data"].split(":")[0] + ")", fontsize=10)
+    fig.tight_layout()
+    return {"localization3d_error_cdf": fig}
+
+
+experiment("localization3d", "3D localization: error CDF of CLAP and RANSAC against outliers",
+           quick={"ratios": [0.0, 0.3, 0.6, 0.7, 0.8], "frames": 20, "candidates": 1000},
+           full={"ratios": [0.0, 0.2, 0.4, 0.5, 0.6, 0.7, 0.8], "frames": 60,
+                 "candidates": 1000},
+           figures=figures_localization3d, expected_seconds=(15.0, 60.0))(run_localization3d)
+
+
+# ------------------------------------------------------------------------- 2D
+def run_localization2d(params: dict, seed: int) -> dict:
+    from ..geometry import SE2
+    from ..localization.field import load_field
+    from ..localization.localize2d import localize2d
+    from ..localization.observations import simulate_observations
+    from ..spaces import enumerate_hypotheses
+    from ..spaces.landmarks2d import Landmark2DSpace
+
+    field = load_field("adult")
+    space = Landmark2DSpace(field)
+    mirror = SE2.from_xytheta(0.0, 0.0, np.pi)
+
+    def error(T, target):
+        x, y, th = SE2.to_xytheta(np.linalg.inv(target) @ T)
+        return float(np.hypot(x, y)), float(abs(np.degrees(th)))
+
+    rows, sym_rows = [], []
+    for i, rate in enumerate(params["false_positive_rates"]):
+        rng = np.random.default_rng([seed, 1, i])
+        done = 0
+        with progress(None, f"localization2d {rate:.0%}", total=params["frames"]) as bar:
+            while done < params["frames"]:
+                truth = SE2.from_xytheta(rng.uniform(-6.5, 6.5), rng.uniform(-4, 4),
+                                         rng.uniform(-np.pi, np.pi))
+                obs = simulate_observations(field, truth, false_positive_rate=rate, rng=rng)
+                # scene selection (not estimator input): frames with at least 3 true detections
+                if np.count_nonzero(~obs.truth.is_false) < 3:
+                    continue
+                done += 1
+                bar.update(1)
+                hyps = enumerate_hypotheses(space, obs.input.data)
+                for method in ("clap", "ransac", "hough"):
+                    r = localize2d(obs.input.data, space=space, hypotheses=hyps, method=method)
+                    e = (min(error(r.model, t) for t in (truth, mirror @ truth))
+                         if r.success else (None, None))
+                    rows.append({"false_positive_rate": rate, "frame": done - 1,
+                                 "method": method, "e_t_m": e[0], "e_r_deg": e[1]})
+                    if method == "clap" and rate == 0.0 and r.success:
+                        sym_rows.append(_symmetry_row(r, truth, mirror, error))
+    numbers = {}
+    for rate in params["false_positive_rates"]:
+        for method in ("clap", "ransac", "hough"):
+            e = [(r["e_t_m"] if r["e_t_m"] is not None else np.inf,
+                  r["e_r_deg"] if r["e_r_deg"] is not None else np.inf)
+                 for r in rows if r["false_positive_rate"] == rate and r["method"] == method]
+            numbers[f"{method}@{rate:.2f}"] = _rates(e)
+    both = [r["pose_and_mirror"] for r in sym_rows]
+    numbers["symmetry"] = {"frames": len(sym_rows),
+                           "pose_and_mirror_tied": float(np.mean(both)) if both else 0.0}
+    return {"data": "simulated detections on the RoboCup AdultSize field (camera model, "
+                    "misses, false detections); the predecessor's robot logs are not public",
+            "tables": {"errors": rows, "symmetry": sym_rows}, "numbers": numbers}
+
+
+def _symmetry_row(r, truth, mirror, error) -> dict:
+    """Do the two best clusters hold the pose and its mirror with equal support?"""
+    top = r.clusters[:2]
+
+    def near(target):
+        return any(e_t < 2 * OK_TRANSLATION and e_r < 2 * OK_ROTATION
+                   for e_t, e_r in (error(c.model, target) for c in top))
+
+    tied = len(top) == 2 and top[0].support == top[1].support
+    return {"clusters": len(r.clusters), "best_support": int(top[0].support),
+            "second_support": int(top[1].support) if len(top) > 1 else 0,
+            "pose_and_mirror": bool(tied and near(truth) and near(mirror @ truth))}
+
+
+def figures_localization2d(output: dict) -> dict:
+    import matplotlib.pyplot as plt
+
+    rows = output["tables"]["errors"]
+    rates = sorted({r["false_positive_rate"] for r in rows})
+    fig, ax = plt.subplots(figsize=(6.0, 3.6))
+    for method, color in (("clap", "C3"), ("ransac", "C0"), ("hough", "C2")):
+        ok = [output["numbers"][f"{method}@{rate:.2f}"]["ok"] for rate in rates]
+        ax.plot(np.array(rates) * 100, ok, "o-", color=color, label=method.upper()
+                if method != "hough" else "Hough")
+    ax.set_xlabel("false detections [%]")
+    ax.set_ylabel(f"frames within {OK_TRANSLATION * 100:.0f} cm, {OK_ROTATION:.0f} deg")
+    ax.set_ylim(0, 1.02)
+    ax.legend(fontsize=8)
+    ax.set_title("2D global localization, AdultSize field (simulated detections)", fontsize=10)
+    fig.tight_layout()
+    return {"localization2d_accuracy": fig}
+
+
+experiment("localization2d", "2D localization on a RoboCup field: false detections, symmetry",
+           quick={"false_positive_rates": [0.0, 0.2, 0.4, 0.6], "frames": 40},
+           full={"false_positive_rates": [0.0, 0.1, 0.2, 0.3, 0.4, 0.5, 0.6], "frames": 150},
+           figures=figures_localization2d, expected_seconds=(10.0, 60.0))(run_localization2d)

@@ -1,0 +1,111 @@
+"""Experiments of the paper as named, seeded, cacheable units of work.
+
+An :class:`Experiment` is a function ``run(params, seed) -> dict`` plus the
+parameters of its quick and full versions, the data sets it needs and the
+figures drawn from its output. Its seed comes from its own name
+(:func:`seed_for`), never from the order in which experiments run, so one job,
+several jobs and a Dask cluster give the same numbers bit for bit.
+
+The output of ``run`` is JSON data::
+
+    {"data": "what the numbers were computed on (a substitute says so)",
+     "tables": {"name": [row dict, ...]},   # written as CSV
+     "numbers": {"key": value, ...},        # what the claims read
+     "artifacts": {...}}                    # anything the figures need
+
+Timings are kept apart by the runner: they are the only part of a run that
+may differ between two runs.
+"""
+
+from __future__ import annotations
+
+import hashlib
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+__all__ = ["EXPERIMENTS", "Experiment", "experiment", "progress", "seed_for"]
+
+
+@dataclass(frozen=True)
+class Experiment:
+    """One experiment of the paper.
+
+    Attributes
+    ----------
+    name : str
+        Identifier; also the seed source and the cache file name.
+    title : str
+        One line for people.
+    run : callable
+        ``run(params: dict, seed: int) -> dict`` (see the module docstring).
+    quick, full : dict
+        Parameters of the quick and the full version.
+    datasets : tuple of str
+        Data sets needed (keys of :data:`clap_unified.reproduce.data.DATASETS`).
+    figures : callable or None
+        ``figures(output) -> {name: matplotlib Figure}``.
+    expected_seconds : (float, float)
+        Rough one-core running time of the quick and the full version.
+    """
+
+    name: str
+    title: str
+    run: Callable
+    quick: dict
+    full: dict
+    datasets: tuple = ()
+    figures: Callable | None = None
+    expected_seconds: tuple = (10.0, 60.0)
+    version: int = 1
+
+    def params(self, quick: bool) -> dict:
+        return dict(self.quick if quick else self.full)
+
+
+#: Registered experiments, by name, in the order they were defined.
+EXPERIMENTS: dict[str, Experiment] = {}
+
+
+def experiment(name: str, title: str, *, quick: dict, full: dict, datasets=(), figures=None,
+               expected_seconds=(10.0, 60.0), version: int = 1):
+    """Decorator registering ``run(params, seed)`` as an :class:`Experiment` named ``name``."""
+
+    def wrap(run):
+        EXPERIMENTS[name] = Experiment(name, title, run, dict(quick), dict(full),
+                                       tuple(datasets), figures, tuple(expected_seconds),
+                                       version)
+        return run
+
+    return wrap
+
+
+def seed_for(name: str) -> int:
+    """A 32-bit seed derived from an experiment's name alone.
+
+    Examples
+    --------
+    >>> seed_for("localization3d") == seed_for("localization3d")
+    True
+    >>> seed_for("a") != seed_for("b")
+    True
+    """
+    return int.from_bytes(hashlib.sha256(name.encode()).digest()[:4], "little")
+
+
+@dataclass
+class _Bar:
+    position: int = 0
+    enabled: bool = True
+    extra: dict = field(default_factory=dict)
+
+
+#: Set by the runner in each worker: the progress-bar line of the running experiment.
+_BAR = _Bar()
+
+
+def progress(iterable, desc: str, total: int | None = None):
+    """``tqdm`` over ``iterable`` for the running experiment (silent when not a terminal)."""
+    from tqdm.auto import tqdm
+
+    return tqdm(iterable, desc=desc, total=total, position=_BAR.position, leave=False,
+                disable=None if _BAR.enabled else True, dynamic_ncols=True)
