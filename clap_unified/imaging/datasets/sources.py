@@ -2,7 +2,9 @@
 
 A dataset is described by a manifest ``data/<dataset>/manifest.json`` in the
 repository: ``base_url`` (public source), ``files`` (relative path ->
-sha256). A file is looked up, in order, in
+sha256) and optionally ``remote`` (relative path -> path under ``base_url``
+where the public source lays files out differently). A file is looked up, in
+order, in
 
 1. the mirror: ``$CLAP_UNIFIED_DATA/<mirror_dir>`` when that environment
    variable is set, else ``../shared/data/<mirror_dir>`` next to the
@@ -110,7 +112,7 @@ def fetch(dataset: str, relpath: str, *, download: bool = True) -> Path:
                                  f"{want[:12]}...); delete it or restore it from "
                                  f"{man['base_url']}{relpath}")
             return p
-    url = man["base_url"] + relpath
+    url = man["base_url"] + man.get("remote", {}).get(relpath, relpath)
     if download:
         try:
             _download(url, places[1])
