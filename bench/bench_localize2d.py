@@ -44,7 +44,7 @@ def scenes(field, n, rng):
                                  rng.uniform(-np.pi, np.pi))
         obs = simulate_observations(field, truth, miss_rate=0.0, false_positive_rate=0.375,
                                     rng=rng)
-        if len(obs) == 8 and int(obs.is_false.sum()) == 3:
+        if len(obs) == 8 and int(obs.truth.is_false.sum()) == 3:
             out.append((truth, obs))
     return out
 
@@ -82,10 +82,10 @@ def main(argv=None):
     for truth, obs in data:
         prior = truth @ SE2.from_xytheta(0.15, -0.1, np.radians(5))
         runs = {
-            "CLAP global": partial(localize2d, obs.data, space=space),
-            "CLAP local": partial(localize2d, obs.data, space=space, prior=prior),
-            "RANSAC": partial(localize2d, obs.data, space=space, method="ransac"),
-            "Hough": partial(localize2d, obs.data, space=space, method="hough"),
+            "CLAP global": partial(localize2d, obs.input.data, space=space),
+            "CLAP local": partial(localize2d, obs.input.data, space=space, prior=prior),
+            "RANSAC": partial(localize2d, obs.input.data, space=space, method="ransac"),
+            "Hough": partial(localize2d, obs.input.data, space=space, method="hough"),
         }
         for name, fn in runs.items():
             res, t = timed(fn, args.repeat)
@@ -94,7 +94,7 @@ def main(argv=None):
                               else (np.inf, np.inf))
         x, y, th = SE2.to_xytheta(prior)
 
-        def mcl_frame(x=x, y=y, th=th, data=obs.data):
+        def mcl_frame(x=x, y=y, th=th, data=obs.input.data):
             pf = ParticleFilter(field, 500, initial=(x, y, th), rng=0)
             t0 = time.perf_counter()
             pf.predict((0.08, 0.0, 0.01))

@@ -21,7 +21,7 @@ def run(args, capsys):
 def obs_file(tmp_path):
     obs = simulate_observations(load_field("adult"), TRUTH, false_positive_rate=0.4, rng=1)
     f = tmp_path / "obs.json"
-    f.write_text(json.dumps(obs.to_dicts()))
+    f.write_text(json.dumps(obs.input.to_dicts()))
     return f
 
 

@@ -22,7 +22,7 @@ def frame():
 def files(tmp_path, frame):
     lab, det = frame
     (tmp_path / "map.json").write_text(json.dumps(lab.to_json()))
-    (tmp_path / "obs.json").write_text(json.dumps(det.to_json()))
+    (tmp_path / "obs.json").write_text(json.dumps(det.input.to_json()))
     return tmp_path
 
 
@@ -42,7 +42,7 @@ def test_localize3d_prints_pose_json(files, frame, capsys, method):
     assert R.shape == (3, 3) and t.shape == (3,) and doc["success"] is True
     T = np.eye(4)
     T[:3, :3], T[:3, 3] = R, t
-    e_t, e_r = pose_errors(T, frame[1].truth)
+    e_t, e_r = pose_errors(T, frame[1].truth.pose)
     assert e_t < 0.05 and e_r < 1.0
     assert doc["clusters"] and {"rotation", "translation", "support", "spread"} <= set(
         doc["clusters"][0])

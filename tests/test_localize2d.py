@@ -40,7 +40,7 @@ def scenes_with_false_positives(rate, n, seed, min_true=4):
         truth = SE2.from_xytheta(rng.uniform(-6.5, 6.5), rng.uniform(-4, 4),
                                  rng.uniform(-np.pi, np.pi))
         obs = simulate_observations(FIELD, truth, false_positive_rate=rate, rng=rng)
-        if np.count_nonzero(~obs.is_false) >= min_true:
+        if np.count_nonzero(~obs.truth.is_false) >= min_true:
             out.append((truth, obs))
     return out
 
@@ -50,15 +50,17 @@ def test_simulator_is_seeded_and_counts_false_positives():
     truth = SE2.from_xytheta(3.0, 1.0, 0.2)
     a = simulate_observations(FIELD, truth, false_positive_rate=0.4, rng=5)
     b = simulate_observations(FIELD, truth, false_positive_rate=0.4, rng=5)
-    np.testing.assert_array_equal(a.data, b.data)
-    n_true = np.count_nonzero(~a.is_false)
-    assert np.count_nonzero(a.is_false) == round(n_true * 0.4 / 0.6)
-    assert set(a.kind[a.is_false]) <= {"random", "wrong_type", "neighbour"}
+    np.testing.assert_array_equal(a.input.data, b.input.data)
+    t = a.truth
+    n_true = np.count_nonzero(~t.is_false)
+    assert np.count_nonzero(t.is_false) == round(n_true * 0.4 / 0.6)
+    assert set(t.kind[t.is_false]) <= {"random", "wrong_type", "neighbour"}
     # true detections are near their landmarks, seen from the pose
-    local = (np.linalg.inv(truth) @ np.c_[FIELD.positions[a.landmark[~a.is_false]],
+    local = (np.linalg.inv(truth) @ np.c_[FIELD.positions[t.landmark[~t.is_false]],
                                           np.ones(n_true)].T).T[:, :2]
-    assert np.max(np.linalg.norm(local - a.data[~a.is_false, 1:], axis=1)) < 0.5
-    assert len(a.to_dicts()) == len(a)
+    assert np.max(np.linalg.norm(local - a.input.data[~t.is_false, 1:], axis=1)) < 0.5
+    np.testing.assert_allclose(t.clean[~t.is_false], local, atol=1e-12)
+    assert len(a.input.to_dicts()) == len(a)
 
 
 def test_noise_grows_with_range_and_camera_limits_the_view():
@@ -67,9 +69,9 @@ def test_noise_grows_with_range_and_camera_limits_the_view():
     errs = {True: [], False: []}
     for seed in range(200):
         obs = simulate_observations(FIELD, truth, camera=cam, miss_rate=0.0, rng=seed)
-        local = FIELD.positions[obs.landmark] - [-1.0, 0.0]
+        local = FIELD.positions[obs.truth.landmark] - [-1.0, 0.0]
         r = np.linalg.norm(local, axis=1)
-        err = np.linalg.norm(obs.data[:, 1:] - local, axis=1)
+        err = np.linalg.norm(obs.input.data[:, 1:] - local, axis=1)
         for far in (True, False):
             errs[far].extend(err[(r > 4.0) == far])
     assert np.std(errs[True]) > 3 * np.std(errs[False])
@@ -103,7 +105,7 @@ def test_clap_global_recovers_pose_or_mirror_pair_at_40_percent_false_positives(
     scenes = scenes_with_false_positives(0.4, 20, seed=11)
     ok = []
     for truth, obs in scenes:
-        res = localize2d(obs, FIELD)
+        res = localize2d(obs.input, FIELD)
         assert res.success
         top = [c for c in res.clusters if c.support == res.clusters[0].support]
         # the field is point-symmetric: truth and mirror both lead, with equal support
@@ -121,8 +123,8 @@ def test_ransac_and_hough_on_identical_candidates_measured_beside_clap():
     for method in ("clap", "ransac", "hough"):
         good = 0
         for truth, obs in scenes:
-            hyps = generate_hypotheses(SPACE, obs.data, 20000)
-            res = localize2d(obs, space=SPACE, hypotheses=hyps, method=method)
+            hyps = generate_hypotheses(SPACE, obs.input.data, 20000)
+            res = localize2d(obs.input, space=SPACE, hypotheses=hyps, method=method)
             err = min(pose_error(res.model, t) for t in (truth, MIRROR @ truth))
             good += res.success and err[0] < 0.10 and err[1] < 2.0
         rates[method] = good / len(scenes)
@@ -135,11 +137,11 @@ def test_ransac_and_hough_on_identical_candidates_measured_beside_clap():
 def test_local_mode_picks_the_true_pose_not_its_mirror():
     truth, obs = scenes_with_false_positives(0.4, 1, seed=13)[0]
     prior = truth @ SE2.from_xytheta(0.2, -0.15, np.radians(6))
-    res = localize2d(obs, FIELD, prior=prior)
+    res = localize2d(obs.input, FIELD, prior=prior)
     dist, ang = pose_error(res.model, truth)
     assert res.success and dist < 0.10 and ang < 2.0
     for method in ("clap", "ransac", "hough"):
-        r = localize2d(obs, FIELD, method=method, prior=(0.0, -5.4, 1.0), radius=0.3)
+        r = localize2d(obs.input, FIELD, method=method, prior=(0.0, -5.4, 1.0), radius=0.3)
         assert not r.success and ("radius" in r.reason or "candidate" in r.reason), r.reason
 
 
@@ -158,8 +160,8 @@ def test_too_few_observations_fail_with_a_reason_and_bad_input_is_named():
 
 def test_same_seed_same_result_when_pairs_are_sampled():
     truth, obs = scenes_with_false_positives(0.4, 1, seed=14)[0]
-    a = localize2d(obs, FIELD, max_hypotheses=5, rng=3)
-    b = localize2d(obs, FIELD, max_hypotheses=5, rng=3)
+    a = localize2d(obs.input, FIELD, max_hypotheses=5, rng=3)
+    b = localize2d(obs.input, FIELD, max_hypotheses=5, rng=3)
     np.testing.assert_array_equal(a.model, b.model)
 
 
@@ -175,23 +177,39 @@ def test_ekf_gates_the_mirror_and_tracks_odometry():
 
 def test_clap_ekf_tracks_a_walk_with_false_positives_and_mcl_runs_beside_it():
     walk = walk_trajectory(FIELD, 80, rng=2)
-    frames = simulate_frames(FIELD, walk, false_positive_rate=0.4, rng=3)
-    clap_run = track_clap_ekf(FIELD, walk, frames)
-    s = tracking_summary(clap_run, walk)
+    frames = [f.input for f in simulate_frames(FIELD, walk, false_positive_rate=0.4, rng=3)]
+    start = walk.truth.xytheta[0]  # robots enter the field from known positions
+    clap_run = track_clap_ekf(FIELD, walk.input, frames, initial=start)
+    s = tracking_summary(clap_run, walk.truth)
     assert s["position_median"] < 0.10 and s["diverged"] == 0.0 and s["jumps"] == 0
-    mcl_run = track_mcl(FIELD, walk, frames, rng=0)
-    m = tracking_summary(mcl_run, walk)
+    mcl_run = track_mcl(FIELD, walk.input, frames, initial=start, rng=0)
+    m = tracking_summary(mcl_run, walk.truth)
     assert np.isfinite(m["position_median"]) and mcl_run.estimates.shape == (80, 3)
-    again = track_mcl(FIELD, walk, frames, rng=0)
+    again = track_mcl(FIELD, walk.input, frames, initial=start, rng=0)
     np.testing.assert_array_equal(mcl_run.estimates, again.estimates)
 
 
 def test_clap_recovers_from_a_push_the_odometry_did_not_see():
     walk = walk_trajectory(FIELD, 120, pushes=1, push_size=(0.8, np.radians(40.0)), rng=4)
-    frames = simulate_frames(FIELD, walk, false_positive_rate=0.2, rng=5)
-    run = track_clap_ekf(FIELD, walk, frames)
-    pos = np.hypot(*(run.estimates[:, :2] - walk.xytheta[:, :2]).T)
+    frames = [f.input for f in simulate_frames(FIELD, walk, false_positive_rate=0.2, rng=5)]
+    run = track_clap_ekf(FIELD, walk.input, frames, initial=walk.truth.xytheta[0])
+    pos = np.hypot(*(run.estimates[:, :2] - walk.truth.xytheta[:, :2]).T)
     assert np.median(pos[-20:]) < 0.15  # back on track by the end
+
+
+def test_estimators_refuse_a_frame_that_carries_its_truth():
+    truth, obs = scenes_with_false_positives(0.4, 1, seed=15)[0]
+    with pytest.raises(ValueError, match="observations"):
+        localize2d(obs, FIELD)
+    walk = walk_trajectory(FIELD, 5, rng=1)
+    frames = simulate_frames(FIELD, walk, rng=2)
+    with pytest.raises(ValueError, match="frames"):
+        track_clap_ekf(FIELD, walk.input, frames, initial=walk.truth.xytheta[0])
+    with pytest.raises(ValueError, match="odometry"):
+        track_mcl(FIELD, walk, [f.input for f in frames], initial=(0.0, 0.0, 0.0))
+    with pytest.raises(ValueError, match="truth"):
+        tracking_summary(track_mcl(FIELD, walk.input, [f.input for f in frames],
+                                   initial=(0.0, 0.0, 0.0), rng=0), walk)
 
 
 def test_particle_filter_validates_its_arguments():

@@ -15,20 +15,22 @@ from clap_unified.spaces.rigid3d import Correspondence3DSpace
 def test_scene_is_seeded_and_the_truth_relates_the_scans():
     a = scene_point_clouds(n_points=3000, rng=5)
     b = scene_point_clouds(n_points=3000, rng=5)
-    assert np.array_equal(a.source, b.source) and np.array_equal(a.truth, b.truth)
+    assert np.array_equal(a.input.source, b.input.source)
+    assert np.array_equal(a.truth.pose, b.truth.pose)
     # every source point, moved by the truth, lies near some target surface sample
     from scipy.spatial import cKDTree
 
-    moved = a.source @ a.truth[:3, :3].T + a.truth[:3, 3]
-    d, _ = cKDTree(a.target).query(moved)
+    T = a.truth.pose
+    moved = a.input.source @ T[:3, :3].T + T[:3, 3]
+    d, _ = cKDTree(a.input.target).query(moved)
     overlap = moved[:, 0] < 0.9
     assert np.median(d[overlap]) < 0.06
 
 
 def test_fpfh_pipeline_and_clap_on_feature_correspondences():
     sc = scene_point_clouds(n_points=12000, rng=1)
-    ps, fs, pd, pf = fpfh_features(sc.source, 0.06)
-    pt, ft, td, tf = fpfh_features(sc.target, 0.06)
+    ps, fs, pd, pf = fpfh_features(sc.input.source, 0.06)
+    pt, ft, td, tf = fpfh_features(sc.input.target, 0.06)
     assert fs.shape == (len(ps), 33) and ft.shape == (len(pt), 33)
     pairs = feature_correspondences(fs, ft)
     assert pairs.ndim == 2 and pairs.shape[1] == 2 and len(pairs) > 100
@@ -39,7 +41,7 @@ def test_fpfh_pipeline_and_clap_on_feature_correspondences():
     res = align_correspondences(data, n_samples=300_000, space=space, bandwidth=0.3,
                                 residual_threshold=0.09, rng=0)
     assert res
-    e_t, e_r = pose_errors(res.model, sc.truth)
+    e_t, e_r = pose_errors(res.model, sc.truth.pose)
     assert e_t < 0.15 and e_r < 5.0
     T, seconds = open3d_fgr(pd, td, pf, tf, threshold=0.09)
     assert T.shape == (4, 4) and seconds > 0

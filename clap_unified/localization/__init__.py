@@ -11,6 +11,11 @@ trajectory and detection simulator (:mod:`.scene3d`), one-frame 6-DoF localizati
 CLAP, RANSAC or Open3D (:mod:`.localize3d`) and the Open3D baselines, point clouds
 included (:mod:`.open3d_baselines`).
 
+Every simulator returns a frozen pair ``(input, truth)``: estimators take the
+``input`` (detections, odometry, scans), scoring takes the ``truth`` (poses,
+landmark identities, false-detection labels, noise-free copies); see
+:mod:`clap_unified.datatypes`.
+
 The map modules are imported eagerly; the estimators, which build on
 :mod:`clap_unified.spaces` (whose landmark space needs the map), on first use.
 """
@@ -21,7 +26,9 @@ from .field import FIELD_DIMENSIONS, LANDMARK_TYPES, Field, field_landmarks, loa
 from .observations import (
     FALSE_POSITIVE_KINDS,
     Camera,
+    ObservationInput,
     Observations,
+    ObservationTruth,
     simulate_observations,
     visible_landmarks,
 )
@@ -29,13 +36,15 @@ from .observations import (
 _LAZY = {
     "LOCALIZE_METHODS": "localize2d", "as_pose": "localize2d", "localize2d": "localize2d",
     "observation_data": "localize2d",
-    "Trajectory": "trajectory", "walk_trajectory": "trajectory",
+    "Trajectory": "trajectory", "OdometryInput": "trajectory", "TrajectoryTruth": "trajectory",
+    "walk_trajectory": "trajectory",
     "PoseEKF": "ekf", "ParticleFilter": "mcl",
     "TrackingRun": "tracking", "simulate_frames": "tracking", "track_clap_ekf": "tracking",
     "track_mcl": "tracking", "tracking_errors": "tracking", "tracking_summary": "tracking",
     "LandmarkMap3D": "map3d", "lab_map": "map3d",
-    "View3D": "scene3d", "Detections3D": "scene3d", "mocap_trajectory": "scene3d",
-    "simulate_detections": "scene3d",
+    "View3D": "scene3d", "Detections3D": "scene3d", "DetectionInput3D": "scene3d",
+    "DetectionTruth3D": "scene3d", "mocap_trajectory": "scene3d",
+    "simulate_detections": "scene3d", "associate_nearest": "scene3d",
     "LOCALIZE3D_METHODS": "localize3d", "localize3d": "localize3d",
     "align_correspondences": "localize3d", "pose_errors": "localize3d",
 }
@@ -59,7 +68,9 @@ __all__ = [
     "LANDMARK_TYPES",
     "Camera",
     "Field",
+    "ObservationInput",
     "Observations",
+    "ObservationTruth",
     "field_landmarks",
     "load_field",
     "simulate_observations",

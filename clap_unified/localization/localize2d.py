@@ -30,7 +30,7 @@ from ..result import ConsensusResult
 from ..spaces.landmarks2d import Landmark2DSpace, observations_array
 from ..spaces.sampling import generate_hypotheses
 from .field import Field, load_field
-from .observations import Observations
+from .observations import ObservationInput, Observations
 
 __all__ = ["LOCALIZE_METHODS", "as_pose", "localize2d", "observation_data"]
 
@@ -59,9 +59,16 @@ def as_pose(pose, name: str = "prior") -> np.ndarray:
 
 
 def observation_data(observations) -> np.ndarray:
-    """``(N, 3)`` rows ``(type_id, x, y)`` from dicts, :class:`Observations` or an array."""
-    if isinstance(observations, Observations):
+    """``(N, 3)`` rows ``(type_id, x, y)`` from dicts, an :class:`ObservationInput` or an array.
+
+    A whole simulated :class:`Observations` is refused (it carries the truth):
+    pass its ``.input``.
+    """
+    if isinstance(observations, ObservationInput):
         return observations.data
+    if isinstance(observations, Observations):
+        raise ValueError("observations: pass the simulated frame's .input, not the whole "
+                         "Observations (it holds the truth)")
     if isinstance(observations, np.ndarray) and observations.dtype != object:
         arr = np.asarray(observations, dtype=float)
         if arr.ndim != 2 or arr.shape[1] != 3:
@@ -84,7 +91,7 @@ def localize2d(observations, field="adult", *, method: str = "clap", prior=None,
 
     Parameters
     ----------
-    observations : list of dict, Observations or ndarray of shape (N, 3)
+    observations : list of dict, ObservationInput or ndarray of shape (N, 3)
         Detections in the robot frame (x forward, y left, metres):
         ``{"type", "x", "y"}`` dicts or rows ``(type_id, x, y)``.
     field : {"adult", "kid"} or Field
@@ -135,10 +142,10 @@ def localize2d(observations, field="adult", *, method: str = "clap", prior=None,
     >>> f = load_field("adult")
     >>> truth = SE2.from_xytheta(3.0, 1.0, 0.2)
     >>> obs = simulate_observations(f, truth, false_positive_rate=0.4, rng=1)
-    >>> res = localize2d(obs, f)
+    >>> res = localize2d(obs.input, f)
     >>> [round(c.support) for c in res.clusters][:2]   # the pose and its mirror, tied
     [20, 20]
-    >>> x, y, th = SE2.to_xytheta(localize2d(obs, f, prior=(2.9, 1.1, 0.25)).model)
+    >>> x, y, th = SE2.to_xytheta(localize2d(obs.input, f, prior=(2.9, 1.1, 0.25)).model)
     >>> print(f"{x:.2f} {y:.2f} {th:.2f}")
     2.99 0.99 0.20
     """

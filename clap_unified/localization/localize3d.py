@@ -104,9 +104,12 @@ def localize3d(observations, landmarks, *, method: str = "clap", n_hypotheses: i
 
     Parameters
     ----------
-    observations : ndarray of shape (N, 4) or list of dict
+    observations : ndarray of shape (N, 4), DetectionInput3D or list of dict
         Rows ``(type_id, x, y, z)`` in the body frame (``type_id`` indexes
-        ``space.type_names``), or ``{"type", "x", "y", "z"}`` dicts.
+        ``space.type_names``), a simulated frame's ``.input``, or
+        ``{"type", "x", "y", "z"}`` dicts. A whole simulated
+        :class:`~clap_unified.localization.scene3d.Detections3D` is refused
+        (it holds the truth).
     landmarks : LandmarkMap3D
         The map (ignored when ``space`` is given).
     method : {"clap", "ransac", "open3d"}
@@ -163,7 +166,7 @@ def localize3d(observations, landmarks, *, method: str = "clap", n_hypotheses: i
     >>> lab = lab_map()
     >>> truth = mocap_trajectory(20, rng=0)[4]
     >>> det = simulate_detections(lab, truth, outlier_ratio=0.6, rng=2)
-    >>> res = localize3d(det.data, lab, rng=0)
+    >>> res = localize3d(det.input, lab, rng=0)
     >>> e_t, e_r = pose_errors(res.model, truth)
     >>> res.success, e_t < 0.05, e_r < 1.0
     (True, True, True)
@@ -174,6 +177,13 @@ def localize3d(observations, landmarks, *, method: str = "clap", n_hypotheses: i
         if not isinstance(landmarks, LandmarkMap3D):
             raise ValueError("landmarks: expected a LandmarkMap3D (or pass space=)")
         space = landmarks.space(inlier_threshold=residual_threshold, **space_options)
+    from .scene3d import DetectionInput3D, Detections3D
+
+    if isinstance(observations, Detections3D):
+        raise ValueError("observations: pass the simulated frame's .input, not the whole "
+                         "Detections3D (it holds the truth)")
+    if isinstance(observations, DetectionInput3D):
+        observations = observations.data
     if isinstance(observations, (list, tuple)):
         observations = space.observations_array(observations)
     data = np.asarray(observations, dtype=float)

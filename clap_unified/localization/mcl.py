@@ -56,7 +56,7 @@ class ParticleFilter:
     >>> f = load_field("adult")
     >>> pf = ParticleFilter(f, 500, initial=(3.0, 1.0, 0.2), rng=0)
     >>> obs = simulate_observations(f, SE2.from_xytheta(3.0, 1.0, 0.2), rng=1)
-    >>> pf.update(obs.data)
+    >>> pf.update(obs.input.data)
     >>> x, y, th = pf.estimate()
     >>> print(f"{x:.1f} {y:.1f} {th:.1f}")
     3.0 1.0 0.2

@@ -20,16 +20,16 @@ Everything is seeded.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from dataclasses import field as dataclass_field
 
 import numpy as np
 
 from .._validation import as_generator, check_fraction, check_positive
+from ..datatypes import freeze_arrays, readonly
 from ..geometry.se2 import SE2
 from .field import LANDMARK_TYPES, Field
 
-__all__ = ["Camera", "Observations", "simulate_observations", "visible_landmarks",
-           "FALSE_POSITIVE_KINDS"]
+__all__ = ["Camera", "Observations", "ObservationInput", "ObservationTruth",
+           "simulate_observations", "visible_landmarks", "FALSE_POSITIVE_KINDS"]
 
 FALSE_POSITIVE_KINDS = ("random", "wrong_type", "neighbour")
 
@@ -83,43 +83,101 @@ class Camera:
         return (r >= self.min_range) & (r <= self.max_range) & (np.abs(bearing) <= self.fov / 2)
 
 
-@dataclass
-class Observations:
-    """Detections in the robot frame, with what the simulator knows about them.
+@dataclass(frozen=True)
+class ObservationInput:
+    """What a localizer may see of one frame: the detections, nothing else.
 
     Attributes
     ----------
     data : ndarray of shape (N, 3)
-        Rows ``(type_id, x, y)``: the input of :class:`~clap_unified.spaces.Landmark2DSpace`.
-    landmark : ndarray of int, shape (N,)
-        Index of the map landmark behind each detection, -1 for a false one.
-    kind : ndarray of str, shape (N,)
-        ``"true"`` or the false-positive kind.
+        Rows ``(type_id, x, y)`` in the robot frame (``type_id`` indexes
+        :data:`~clap_unified.localization.field.LANDMARK_TYPES`): the input of
+        :class:`~clap_unified.spaces.Landmark2DSpace` and of ``localize2d``.
+        Read-only.
     """
 
     data: np.ndarray
-    landmark: np.ndarray
-    kind: np.ndarray = dataclass_field(default=None)
 
     def __post_init__(self):
-        if self.kind is None:
-            self.kind = np.where(self.landmark >= 0, "true", "random")
+        object.__setattr__(self, "data", readonly(np.asarray(self.data, float).reshape(-1, 3)))
 
     def __len__(self) -> int:
         return len(self.data)
-
-    @property
-    def is_false(self) -> np.ndarray:
-        return self.landmark < 0
-
-    @property
-    def false_positive_rate(self) -> float:
-        return float(self.is_false.mean()) if len(self) else 0.0
 
     def to_dicts(self) -> list[dict]:
         """The JSON form read by ``clap-unified localize2d``."""
         return [{"type": LANDMARK_TYPES[int(t)], "x": float(x), "y": float(y)}
                 for t, x, y in self.data]
+
+
+@dataclass(frozen=True)
+class ObservationTruth:
+    """Evaluation data of one frame: for scoring only, never for an estimator.
+
+    Attributes
+    ----------
+    pose : ndarray of shape (3, 3)
+        True ``T_field_robot``.
+    landmark : ndarray of int, shape (N,)
+        Index of the map landmark behind each detection (row of
+        ``input.data``), -1 for a false one.
+    kind : ndarray of str, shape (N,)
+        ``"true"`` or the false-positive kind (``"random"``, ``"wrong_type"``,
+        ``"neighbour"``).
+    clean : ndarray of shape (N, 2)
+        Noise-free robot-frame position of the landmark behind each
+        detection (for ``"wrong_type"`` the real landmark, for
+        ``"neighbour"`` the neighbouring field's landmark); NaN for
+        ``"random"`` detections, which have no landmark behind them.
+    """
+
+    pose: np.ndarray
+    landmark: np.ndarray
+    kind: np.ndarray
+    clean: np.ndarray
+
+    def __post_init__(self):
+        freeze_arrays(self)
+
+    @property
+    def is_false(self) -> np.ndarray:
+        """True for false detections."""
+        return self.landmark < 0
+
+    @property
+    def false_positive_rate(self) -> float:
+        return float(self.is_false.mean()) if len(self.landmark) else 0.0
+
+
+@dataclass(frozen=True)
+class Observations:
+    """One simulated frame: the estimator's ``input`` and the evaluation ``truth``, apart.
+
+    Pass ``obs.input`` (or ``obs.input.data``) to an estimator and score with
+    ``obs.truth``; the two parts are frozen and their arrays read-only, so
+    one cannot stand in for the other.
+
+    Attributes
+    ----------
+    input : ObservationInput
+    truth : ObservationTruth
+    """
+
+    input: ObservationInput
+    truth: ObservationTruth
+
+    def __post_init__(self):
+        if not isinstance(self.input, ObservationInput):
+            raise ValueError(f"input: expected an ObservationInput, got "
+                             f"{type(self.input).__name__}")
+        if not isinstance(self.truth, ObservationTruth):
+            raise ValueError(f"truth: expected an ObservationTruth, got "
+                             f"{type(self.truth).__name__}")
+        if len(self.truth.landmark) != len(self.input):
+            raise ValueError("truth: one landmark index per detection expected")
+
+    def __len__(self) -> int:
+        return len(self.input)
 
 
 def visible_landmarks(field: Field, pose, camera: Camera | None = None) -> np.ndarray:
@@ -182,7 +240,9 @@ def simulate_observations(field: Field, pose, *, camera: Camera | None = None,
     Returns
     -------
     Observations
-        Detections in a random order.
+        ``input.data``: the detections ``(type_id, x, y)`` in a random order,
+        all an estimator may see; ``truth``: the pose, the landmark and kind
+        behind each detection and its noise-free position, for scoring.
 
     Examples
     --------
@@ -190,9 +250,9 @@ def simulate_observations(field: Field, pose, *, camera: Camera | None = None,
     >>> f = load_field("adult")
     >>> obs = simulate_observations(f, SE2.from_xytheta(3.0, 1.0, 0.2),
     ...                             false_positive_rate=0.4, rng=1)
-    >>> len(obs), int(obs.is_false.sum())
+    >>> len(obs.input), int(obs.truth.is_false.sum())
     (12, 5)
-    >>> sorted(set(obs.kind.tolist()))
+    >>> sorted(set(obs.truth.kind.tolist()))
     ['random', 'true', 'wrong_type']
     """
     camera = Camera() if camera is None else camera
@@ -209,10 +269,12 @@ def simulate_observations(field: Field, pose, *, camera: Camera | None = None,
 
     seen = visible_landmarks(field, pose, camera)
     seen = seen[rng.random(len(seen)) >= miss_rate]
-    local = _noisy(_to_robot(field.positions[seen], pose), camera, rng)
+    clean_true = _to_robot(field.positions[seen], pose).reshape(-1, 2)
+    local = _noisy(clean_true, camera, rng)
     rows = [np.c_[type_id[seen], local]]
     landmark = [seen]
     kind = [np.full(len(seen), "true", dtype=object)]
+    clean = [clean_true]
 
     n_false = int(round(len(seen) * fp / (1 - fp))) if fp > 0 else 0
     if fp > 0 and len(seen) == 0:
@@ -223,18 +285,24 @@ def simulate_observations(field: Field, pose, *, camera: Camera | None = None,
             m = int(np.count_nonzero(chosen == k))
             if m == 0:
                 continue
-            f_rows, f_kind = _false(name, m, field, pose, camera, type_id, rng)
+            f_rows, f_kind, f_clean = _false(name, m, field, pose, camera, type_id, rng)
             rows.append(f_rows)
             landmark.append(np.full(len(f_rows), -1))
             kind.append(f_kind)
+            clean.append(f_clean)
     data = np.concatenate(rows).reshape(-1, 3)
     order = rng.permutation(len(data))
-    return Observations(data[order], np.concatenate(landmark)[order].astype(int),
-                        np.concatenate(kind)[order].astype(str))
+    truth = ObservationTruth(pose.copy(), np.concatenate(landmark)[order].astype(int),
+                             np.concatenate(kind)[order].astype(str),
+                             np.concatenate(clean).reshape(-1, 2)[order])
+    return Observations(ObservationInput(data[order]), truth)
 
 
 def _false(name, m, field, pose, camera, type_id, rng):
-    """``m`` false detections of one kind (falls back to ``random`` when impossible)."""
+    """``m`` false detections of one kind (falls back to ``random`` when impossible).
+
+    Returns the rows, their kind and the noise-free point behind each (NaN for random ones).
+    """
     n_types = len(LANDMARK_TYPES)
     if name == "wrong_type":
         seen = visible_landmarks(field, pose, camera)
@@ -242,8 +310,9 @@ def _false(name, m, field, pose, camera, type_id, rng):
             pick = seen[rng.integers(0, len(seen), m)]
             shift = rng.integers(1, n_types, m)  # any other type
             wrong = (type_id[pick] + shift) % n_types
-            local = _noisy(_to_robot(field.positions[pick], pose), camera, rng)
-            return np.c_[wrong, local], np.full(m, name, dtype=object)
+            clean = _to_robot(field.positions[pick], pose).reshape(-1, 2)
+            local = _noisy(clean, camera, rng)
+            return np.c_[wrong, local], np.full(m, name, dtype=object), clean
     elif name == "neighbour":
         dims = field.dimensions
         width = dims.get("width", np.ptp(field.positions[:, 1]))
@@ -256,6 +325,7 @@ def _false(name, m, field, pose, camera, type_id, rng):
         if len(vis):
             pick = vis[rng.integers(0, len(vis), m)]
             local = _noisy(local_all[pick], camera, rng)
-            return np.c_[ctype[pick], local], np.full(m, name, dtype=object)
+            return np.c_[ctype[pick], local], np.full(m, name, dtype=object), local_all[pick]
     local = _random_in_view(m, camera, rng)
-    return np.c_[rng.integers(0, n_types, m), local], np.full(m, "random", dtype=object)
+    return (np.c_[rng.integers(0, n_types, m), local], np.full(m, "random", dtype=object),
+            np.full((m, 2), np.nan))

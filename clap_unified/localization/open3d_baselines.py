@@ -24,15 +24,17 @@ from __future__ import annotations
 
 import os
 import time
+from dataclasses import dataclass
 
 import numpy as np
 
 from .._validation import as_generator, check_int, check_positive
+from ..datatypes import freeze_arrays
 from ..geometry.se3 import SE3
-from ..geometry.so3 import so3_exp
 
 __all__ = ["open3d_correspondence_ransac", "scene_point_clouds", "fpfh_features",
-           "feature_correspondences", "open3d_feature_ransac", "open3d_fgr", "PointCloudScene"]
+           "feature_correspondences", "open3d_feature_ransac", "open3d_fgr", "PointCloudScene",
+           "PointCloudInput", "PointCloudTruth"]
 
 
 def _o3d():
@@ -45,7 +47,8 @@ def _o3d():
 def _cloud(points):
     o3d = _o3d()
     pc = o3d.geometry.PointCloud()
-    pc.points = o3d.utility.Vector3dVector(np.ascontiguousarray(points, dtype=float))
+    # a writeable copy: Open3D refuses read-only buffers (the scenes hand out read-only arrays)
+    pc.points = o3d.utility.Vector3dVector(np.array(points, dtype=float, order="C", copy=True))
     return pc
 
 
@@ -95,7 +98,7 @@ def open3d_correspondence_ransac(source, target, correspondences, *, threshold: 
     """
     o3d = _o3d()
     reg = o3d.pipelines.registration
-    corr = np.ascontiguousarray(correspondences, dtype=np.int32).reshape(-1, 2)
+    corr = np.array(correspondences, dtype=np.int32, order="C", copy=True).reshape(-1, 2)
     threshold = check_positive(threshold, "threshold")
     max_iteration = check_int(max_iteration, "max_iteration", minimum=1)
     o3d.utility.random.seed(int(seed))
@@ -117,19 +120,83 @@ def open3d_correspondence_ransac(source, target, correspondences, *, threshold: 
 
 
 # ---------------------------------------------------------------- point clouds
-class PointCloudScene:
-    """Two scans of one scene and the true motion between them.
+@dataclass(frozen=True)
+class PointCloudInput:
+    """What a registration method may see: the two noisy scans.
 
     Attributes
     ----------
-    source, target : ndarray of shape (N, 3), (M, 3)
-        ``target`` is in the world frame, ``source`` in the sensor frame of
-        the second scan: ``target ~ truth @ source`` on the overlap.
-    truth : ndarray of shape (4, 4)
+    source : ndarray of shape (N, 3)
+        Second scan, in its own sensor frame.
+    target : ndarray of shape (M, 3)
+        First scan, in the world frame.
     """
 
-    def __init__(self, source, target, truth):
-        self.source, self.target, self.truth = source, target, truth
+    source: np.ndarray
+    target: np.ndarray
+
+    def __post_init__(self):
+        freeze_arrays(self)
+
+
+@dataclass(frozen=True)
+class PointCloudTruth:
+    """Evaluation data of a scan pair: for scoring only.
+
+    Attributes
+    ----------
+    pose : ndarray of shape (4, 4)
+        True motion ``T_target_source``: ``target ~ pose @ source`` on the overlap.
+    source_clean, target_clean : ndarray of shape (N, 3), (M, 3)
+        The scans before noise (row for row).
+    """
+
+    pose: np.ndarray
+    source_clean: np.ndarray
+    target_clean: np.ndarray
+
+    def __post_init__(self):
+        freeze_arrays(self)
+
+
+@dataclass(frozen=True)
+class PointCloudScene:
+    """Two scans of one scene (``input``) and the true motion between them (``truth``).
+
+    Attributes
+    ----------
+    input : PointCloudInput
+    truth : PointCloudTruth
+    """
+
+    input: PointCloudInput
+    truth: PointCloudTruth
+
+
+def _rotation(phi) -> np.ndarray:
+    """Rodrigues' rotation of a rotation vector with elementwise operations only.
+
+    No matrix product (hence no BLAS call): the scene's points are then the same
+    bit for bit whatever OpenBLAS kernel or thread count a machine uses, and so
+    are the features Open3D computes from them. (``so3_exp`` multiplies
+    matrices, whose last bits depend on the kernel.)
+    """
+    phi = np.asarray(phi, dtype=float)
+    theta = np.sqrt(np.sum(phi * phi))
+    if theta == 0.0:
+        return np.eye(3)
+    x, y, z = phi / theta
+    c, s = np.cos(theta), np.sin(theta)
+    C = 1.0 - c
+    return np.array([[c + x * x * C, x * y * C - z * s, x * z * C + y * s],
+                     [y * x * C + z * s, c + y * y * C, y * z * C - x * s],
+                     [z * x * C - y * s, z * y * C + x * s, c + z * z * C]])
+
+
+def _rotate_rows(points, R) -> np.ndarray:
+    """``points @ R.T`` by elementwise products and sums in a fixed order (no BLAS)."""
+    p = np.asarray(points, dtype=float)
+    return (p[:, 0:1] * R[:, 0] + p[:, 1:2] * R[:, 1]) + p[:, 2:3] * R[:, 2]
 
 
 def _scene_meshes(o3d):
@@ -137,7 +204,7 @@ def _scene_meshes(o3d):
     parts = []
 
     def add(mesh, xyz, rot=(0.0, 0.0, 0.0)):
-        mesh.rotate(so3_exp(np.asarray(rot, dtype=float)), center=(0, 0, 0))
+        mesh.rotate(_rotation(np.asarray(rot, dtype=float)), center=(0, 0, 0))
         mesh.translate(xyz)
         parts.append(mesh)
 
@@ -166,6 +233,12 @@ def scene_point_clouds(*, n_points: int = 20000, noise: float = 0.005,
     by a random rotation of ``rotation_deg`` degrees and a translation of
     ``translation`` metres.
 
+    The points are computed without matrix products, so a seed gives the
+    same scans bit for bit under any OpenBLAS kernel and thread count (the
+    FPFH features Open3D computes from them, and their matches, then agree
+    too; with ``@`` the last bits, and with them a few feature matches,
+    changed between kernels).
+
     Parameters
     ----------
     n_points : int
@@ -179,6 +252,8 @@ def scene_point_clouds(*, n_points: int = 20000, noise: float = 0.005,
     Returns
     -------
     PointCloudScene
+        ``input``: the two noisy scans; ``truth``: the motion and the scans
+        before noise.
     """
     o3d = _o3d()
     g = as_generator(rng)
@@ -199,17 +274,20 @@ def scene_point_clouds(*, n_points: int = 20000, noise: float = 0.005,
         t = tris[k]
         pts = t[:, 0] + u[:, None] * (t[:, 1] - t[:, 0]) + v[:, None] * (t[:, 2] - t[:, 0])
         pts = pts[keep_side(pts)]
-        return pts + g.normal(0, noise, pts.shape)
+        return pts, pts + g.normal(0, noise, pts.shape)
 
-    target = scan(lambda p: p[:, 0] < 1.0)
-    world_src = scan(lambda p: p[:, 0] > -1.2)
+    target_clean, target = scan(lambda p: p[:, 0] < 1.0)
+    world_clean, world_src = scan(lambda p: p[:, 0] > -1.2)
     axis = g.normal(size=3)
-    axis /= np.linalg.norm(axis)
+    axis /= np.sqrt(np.sum(axis * axis))
     direction = g.normal(size=3)
-    direction /= np.linalg.norm(direction)
-    truth = SE3.from_rt(so3_exp(np.radians(rotation_deg) * axis), translation * direction)
-    source = (world_src - truth[:3, 3]) @ truth[:3, :3]  # truth^-1 applied
-    return PointCloudScene(source, target, truth)
+    direction /= np.sqrt(np.sum(direction * direction))
+    R = _rotation(np.radians(rotation_deg) * axis)
+    truth = SE3.from_rt(R, translation * direction)
+    source = _rotate_rows(world_src - truth[:3, 3], R.T)  # truth^-1 applied
+    source_clean = _rotate_rows(world_clean - truth[:3, 3], R.T)
+    return PointCloudScene(PointCloudInput(source, target),
+                           PointCloudTruth(truth, source_clean, target_clean))
 
 
 def fpfh_features(points, voxel: float):

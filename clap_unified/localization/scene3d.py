@@ -13,11 +13,27 @@ The paper's MoCap recordings are not public, so this module simulates them:
 
 Two kinds of false detection: ``"random"`` (a random type at a random place
 in the view cone) and ``"wrong_type"`` (a visible landmark reported with
-another type). Each detection also carries a putative association (the map
-landmark a front end would pair it with): the true landmark for a correct
-detection, a random landmark of the reported type for a false one, so the
-same scene serves as ``N`` putative correspondences with the same outlier
-ratio. Everything is seeded.
+another type). Everything is seeded.
+
+Each frame is a :class:`Detections3D` with two frozen parts: ``input``, what
+an estimator may see (the typed detections and, on request, a pose guess and
+the association a front end derives from it), and ``truth``, for scoring only
+(the true pose, the landmark and kind behind each detection, the noise-free
+points).
+
+**Putative association.** Earlier versions attached to every detection "the
+map landmark a front end would pair it with": the *true* landmark for a
+correct detection, a random one of its type for a false one. The lab's
+landmarks are typed but not identified (several L corners, several markers),
+so no real front end can know which L corner it sees without already knowing
+the pose: that association was derived from the truth, and an estimator fed it
+got every correct detection correctly matched for free. It is gone. The
+association now comes from what a tracking front end has: a pose guess
+(``prior_error``: the true pose moved by a stated error in a random
+direction, as a filter's prediction would be) and, for each detection, the
+nearest map landmark of its reported type under that guess
+(:func:`associate_nearest`). Both are input; how many of the resulting
+correspondences are wrong is measured against ``truth.landmark``, not set.
 """
 
 from __future__ import annotations
@@ -27,11 +43,13 @@ from dataclasses import dataclass
 import numpy as np
 
 from .._validation import as_generator, check_fraction, check_int, check_positive
+from ..datatypes import freeze_arrays, readonly
 from ..geometry.se3 import SE3
 from ..geometry.so3 import so3_exp
 from .map3d import LandmarkMap3D
 
-__all__ = ["View3D", "Detections3D", "mocap_trajectory", "simulate_detections"]
+__all__ = ["View3D", "Detections3D", "DetectionInput3D", "DetectionTruth3D", "mocap_trajectory",
+           "simulate_detections", "associate_nearest"]
 
 
 @dataclass(frozen=True)
@@ -83,8 +101,8 @@ class View3D:
 
 
 @dataclass(frozen=True)
-class Detections3D:
-    """One frame of typed detections with its ground truth.
+class DetectionInput3D:
+    """What a localizer may see of one frame.
 
     Attributes
     ----------
@@ -93,26 +111,71 @@ class Detections3D:
         ``type_names``.
     type_names : tuple of str
         Sorted type names of the map (as :class:`~clap_unified.spaces.Landmark3DSpace`).
-    truth : ndarray of shape (4, 4)
-        True ``T_world_body``.
-    landmark : ndarray of int, shape (N,)
-        True map landmark of each detection, -1 for a false one.
-    association : ndarray of int, shape (N,)
-        Putative map landmark (true one for correct detections, a random
-        landmark of the reported type for false ones).
-    kind : ndarray of str, shape (N,)
-        ``"landmark"``, ``"random"`` or ``"wrong_type"``.
+    prior : ndarray of shape (4, 4) or None
+        A pose guess ``T_world_body`` (a tracking filter's prediction), when
+        the frame was simulated with ``prior_error``.
+    association : ndarray of int, shape (N,), or None
+        The front end's putative map landmark of each detection: the nearest
+        landmark of its reported type once moved by ``prior``
+        (:func:`associate_nearest`); None without a prior.
     """
 
     data: np.ndarray
     type_names: tuple
-    truth: np.ndarray
-    landmark: np.ndarray
-    association: np.ndarray
-    kind: np.ndarray
+    prior: np.ndarray | None = None
+    association: np.ndarray | None = None
+
+    def __post_init__(self):
+        object.__setattr__(self, "type_names", tuple(self.type_names))
+        freeze_arrays(self)
 
     def __len__(self) -> int:
         return len(self.data)
+
+    def to_json(self) -> list[dict]:
+        """The detections as the command line reads them: ``[{"type", "x", "y", "z"}, ...]``."""
+        return [{"type": self.type_names[int(k)], "x": float(x), "y": float(y), "z": float(z)}
+                for k, x, y, z in self.data]
+
+    def correspondences(self, landmark_map: LandmarkMap3D) -> np.ndarray:
+        """Putative correspondences ``(N, 6)``: body point, associated map point.
+
+        Raises
+        ------
+        ValueError
+            Without an association (simulate with ``prior_error``).
+        """
+        if self.association is None:
+            raise ValueError("association: none in this input; simulate the frame with "
+                             "prior_error= or call associate_nearest with a pose guess")
+        return np.c_[self.data[:, 1:], landmark_map.positions[self.association]]
+
+
+@dataclass(frozen=True)
+class DetectionTruth3D:
+    """Evaluation data of one frame: for scoring only, never for an estimator.
+
+    Attributes
+    ----------
+    pose : ndarray of shape (4, 4)
+        True ``T_world_body``.
+    landmark : ndarray of int, shape (N,)
+        True map landmark of each detection (row of ``input.data``), -1 for a
+        false one.
+    kind : ndarray of str, shape (N,)
+        ``"landmark"``, ``"random"`` or ``"wrong_type"``.
+    clean : ndarray of shape (N, 3)
+        Noise-free body-frame position of the landmark behind each detection
+        (the real landmark of a ``"wrong_type"`` one); NaN for ``"random"``.
+    """
+
+    pose: np.ndarray
+    landmark: np.ndarray
+    kind: np.ndarray
+    clean: np.ndarray
+
+    def __post_init__(self):
+        freeze_arrays(self)
 
     @property
     def is_outlier(self) -> np.ndarray:
@@ -121,16 +184,71 @@ class Detections3D:
 
     @property
     def outlier_ratio(self) -> float:
-        return float(np.mean(self.is_outlier)) if len(self) else 0.0
+        return float(np.mean(self.is_outlier)) if len(self.landmark) else 0.0
 
-    def to_json(self) -> list[dict]:
-        """The detections as the command line reads them: ``[{"type", "x", "y", "z"}, ...]``."""
-        return [{"type": self.type_names[int(k)], "x": float(x), "y": float(y), "z": float(z)}
-                for k, x, y, z in self.data]
 
-    def correspondences(self, landmark_map: LandmarkMap3D) -> np.ndarray:
-        """Putative correspondences ``(N, 6)``: body point, associated map point."""
-        return np.c_[self.data[:, 1:], landmark_map.positions[self.association]]
+@dataclass(frozen=True)
+class Detections3D:
+    """One simulated frame: the estimator's ``input`` and the evaluation ``truth``, apart.
+
+    Attributes
+    ----------
+    input : DetectionInput3D
+    truth : DetectionTruth3D
+    """
+
+    input: DetectionInput3D
+    truth: DetectionTruth3D
+
+    def __post_init__(self):
+        if not isinstance(self.input, DetectionInput3D):
+            raise ValueError(f"input: expected a DetectionInput3D, got {type(self.input).__name__}")
+        if not isinstance(self.truth, DetectionTruth3D):
+            raise ValueError(f"truth: expected a DetectionTruth3D, got {type(self.truth).__name__}")
+
+    def __len__(self) -> int:
+        return len(self.input)
+
+
+def associate_nearest(data, landmark_map: LandmarkMap3D, prior) -> np.ndarray:
+    """Each detection's nearest map landmark of its type once moved by the pose guess ``prior``.
+
+    The association a tracking front end makes from what it has (the
+    detections, the map, a predicted pose); no truth enters.
+
+    Parameters
+    ----------
+    data : ndarray of shape (N, 4)
+        Rows ``(type_id, x, y, z)``, ``type_id`` indexing the map's sorted type names.
+    landmark_map : LandmarkMap3D
+    prior : ndarray of shape (4, 4)
+        ``T_world_body`` guess.
+
+    Returns
+    -------
+    ndarray of int, shape (N,)
+
+    Examples
+    --------
+    >>> from clap_unified.localization.map3d import LandmarkMap3D
+    >>> m = LandmarkMap3D(np.array(["a", "a", "b"]), np.array([[0.0, 0, 0], [2, 0, 0], [1, 1, 0]]))
+    >>> associate_nearest(np.array([[0.0, 1.8, 0.1, 0.0], [1.0, 0.9, 1.0, 0.0]]), m,
+    ...                   np.eye(4)).tolist()
+    [1, 2]
+    """
+    names = tuple(sorted(set(landmark_map.types.tolist())))
+    tid = np.array([names.index(t) for t in landmark_map.types])
+    d = np.asarray(data, dtype=float).reshape(-1, 4)
+    T = SE3().validate(prior, "prior")
+    if T.shape != (4, 4):
+        raise ValueError(f"prior: expected one 4 x 4 pose, got shape {T.shape}")
+    ids = d[:, 0].astype(int)
+    if np.any((ids < 0) | (ids >= len(names))):
+        raise ValueError(f"data: type ids must be in [0, {len(names)})")
+    world = d[:, 1:] @ T[:3, :3].T + T[:3, 3]
+    dist = np.linalg.norm(world[:, None, :] - landmark_map.positions[None, :, :], axis=2)
+    dist[ids[:, None] != tid[None, :]] = np.inf
+    return np.argmin(dist, axis=1).astype(int)
 
 
 def mocap_trajectory(n_frames: int = 100, *, height: float = 1.25, rng=None) -> np.ndarray:
@@ -152,6 +270,9 @@ def mocap_trajectory(n_frames: int = 100, *, height: float = 1.25, rng=None) -> 
     Returns
     -------
     ndarray of shape (n_frames, 4, 4)
+        Read-only. Ground truth only (what the simulated MoCap records):
+        :func:`simulate_detections` turns a pose into a frame whose ``input``
+        is all an estimator may see.
 
     Examples
     --------
@@ -175,12 +296,13 @@ def mocap_trajectory(n_frames: int = 100, *, height: float = 1.25, rng=None) -> 
     ey = np.array([0.0, 1.0, 0.0])
     ex = np.array([1.0, 0.0, 0.0])
     R = so3_exp(yaw[:, None] * ez) @ so3_exp(pitch[:, None] * ey) @ so3_exp(roll[:, None] * ex)
-    return SE3.from_rt(R, np.c_[x, y, z])
+    return readonly(SE3.from_rt(R, np.c_[x, y, z]))
 
 
 def simulate_detections(landmark_map: LandmarkMap3D, pose, *, outlier_ratio: float = 0.0,
                         view: View3D | None = None, miss_rate: float = 0.1,
-                        wrong_type_fraction: float = 0.3, rng=None) -> Detections3D:
+                        wrong_type_fraction: float = 0.3, prior_error=None,
+                        rng=None) -> Detections3D:
     """Typed detections of the map from one pose, with noise, misses and false detections.
 
     Parameters
@@ -197,19 +319,27 @@ def simulate_detections(landmark_map: LandmarkMap3D, pose, *, outlier_ratio: flo
     wrong_type_fraction : float in [0, 1]
         Share of false detections that are real landmarks with a wrong type
         (the rest are random points in the view cone with a random type).
+    prior_error : (float, float), optional
+        ``(metres, radians)``: also hand the estimator a pose guess this far
+        from the truth (translation and rotation of exactly these sizes, in
+        random directions, drawn after the detections so that they do not
+        change) and the association a front end makes with it
+        (:func:`associate_nearest`), in ``input.prior`` and ``input.association``.
     rng : None, int or numpy.random.Generator
 
     Returns
     -------
     Detections3D
-        Detections in random order.
+        ``input``: detections in random order (and the guess and association
+        when asked for); ``truth``: the pose, the landmark, kind and
+        noise-free point behind each detection.
 
     Examples
     --------
     >>> from clap_unified.localization.map3d import lab_map
     >>> T = mocap_trajectory(10, rng=0)[3]
     >>> det = simulate_detections(lab_map(), T, outlier_ratio=0.6, rng=1)
-    >>> len(det), round(det.outlier_ratio, 2)
+    >>> len(det.input), round(det.truth.outlier_ratio, 2)
     (37, 0.59)
     """
     o = check_fraction(outlier_ratio, "outlier_ratio")
@@ -219,6 +349,14 @@ def simulate_detections(landmark_map: LandmarkMap3D, pose, *, outlier_ratio: flo
     T = SE3().validate(pose, "pose")
     if T.shape != (4, 4):
         raise ValueError(f"pose: expected one 4 x 4 pose, got shape {T.shape}")
+    if prior_error is not None:
+        try:
+            err_t, err_r = (float(v) for v in prior_error)
+        except (TypeError, ValueError):
+            raise ValueError(f"prior_error: expected (metres, radians), "
+                             f"got {prior_error!r}") from None
+        check_positive(err_t, "prior_error", allow_zero=True)
+        check_positive(err_r, "prior_error", allow_zero=True)
     g = as_generator(rng)
     names = tuple(sorted(set(landmark_map.types.tolist())))
     tid = np.array([names.index(t) for t in landmark_map.types])
@@ -241,11 +379,17 @@ def simulate_detections(landmark_map: LandmarkMap3D, pose, *, outlier_ratio: flo
     rand_pts = view.random_points(n_random, g)
     types = np.r_[tid[seen], wrong_types, rand_types]
     points = np.vstack([noisy, wrong_pts, rand_pts]).reshape(-1, 3)
+    clean = np.vstack([body[seen], body[pick], np.full((n_random, 3), np.nan)]).reshape(-1, 3)
     landmark = np.r_[seen, np.full(n_false, -1)]
     kind = np.array(["landmark"] * n_true + ["wrong_type"] * n_wrong + ["random"] * n_random)
-    association = landmark.copy()
-    for i in np.flatnonzero(landmark < 0):
-        association[i] = g.choice(np.flatnonzero(tid == types[i]))
     order = g.permutation(len(types))
     data = np.c_[types[order], points[order]].astype(float).reshape(-1, 4)
-    return Detections3D(data, names, T.copy(), landmark[order], association[order], kind[order])
+    prior = association = None
+    if prior_error is not None:
+        axis = g.normal(size=3)
+        direction = g.normal(size=3)
+        prior = T @ SE3.from_rt(so3_exp(err_r * axis / np.linalg.norm(axis)),
+                                err_t * direction / np.linalg.norm(direction))
+        association = associate_nearest(data, landmark_map, prior)
+    truth = DetectionTruth3D(T.copy(), landmark[order].astype(int), kind[order], clean[order])
+    return Detections3D(DetectionInput3D(data, names, prior, association), truth)

@@ -30,8 +30,8 @@ from .ekf import PoseEKF
 from .field import Field
 from .localize2d import localize2d
 from .mcl import ParticleFilter
-from .observations import Camera, Observations, simulate_observations
-from .trajectory import Trajectory
+from .observations import Camera, ObservationInput, Observations, simulate_observations
+from .trajectory import OdometryInput, Trajectory, TrajectoryTruth
 
 __all__ = ["TrackingRun", "simulate_frames", "track_clap_ekf", "track_mcl", "tracking_errors",
            "tracking_summary"]
@@ -62,18 +62,44 @@ class TrackingRun:
 def simulate_frames(field: Field, trajectory: Trajectory, *, camera: Camera | None = None,
                     miss_rate: float = 0.1, false_positive_rate: float = 0.0,
                     rng=None) -> list[Observations]:
-    """Detections at every pose of a trajectory (seeded)."""
+    """Detections at every true pose of a trajectory (seeded).
+
+    A simulator, so it reads ``trajectory.truth``; each returned
+    :class:`~clap_unified.localization.observations.Observations` keeps the
+    detections (``.input``, for the trackers) apart from their truth.
+    """
+    if not isinstance(trajectory, Trajectory):
+        raise ValueError(f"trajectory: expected a Trajectory, got {type(trajectory).__name__}")
     rng = as_generator(rng)
     return [simulate_observations(field, T, camera=camera, miss_rate=miss_rate,
                                   false_positive_rate=false_positive_rate, rng=rng)
-            for T in trajectory.poses]
+            for T in trajectory.truth.poses]
 
 
-def _initial(trajectory, initial):
-    return SE2.to_xytheta(trajectory.poses[0]) if initial is None else np.asarray(initial, float)
+def _odometry(odometry) -> OdometryInput:
+    if not isinstance(odometry, OdometryInput):
+        raise ValueError("odometry: expected the OdometryInput of a walk (walk.input), got "
+                         f"{type(odometry).__name__}")
+    return odometry
 
 
-def track_clap_ekf(field: Field, trajectory: Trajectory, frames, *, initial=None,
+def _initial(initial) -> np.ndarray:
+    arr = np.asarray(initial, dtype=float)
+    if arr.shape != (3,) or not np.all(np.isfinite(arr)):
+        raise ValueError(f"initial: expected finite (x, y, theta), got {initial!r}")
+    return arr
+
+
+def _frame_data(frame) -> np.ndarray:
+    """A frame's detections ``(N, 3)``; the truth of a simulated frame is refused."""
+    if isinstance(frame, ObservationInput):
+        return frame.data
+    if isinstance(frame, Observations):
+        raise ValueError("frames: pass each frame's .input (an Observations holds the truth)")
+    return np.asarray(frame, dtype=float).reshape(-1, 3)
+
+
+def track_clap_ekf(field: Field, odometry: OdometryInput, frames, *, initial,
                    initial_cov=(0.3, np.pi / 18), measurement_sigma=(0.1, np.pi / 60),
                    min_radius: float = 0.5, max_radius: float = 2.0, lost_after: int = 5,
                    recovery_support: int = 3, space: Landmark2DSpace | None = None) -> TrackingRun:
@@ -82,14 +108,12 @@ def track_clap_ekf(field: Field, trajectory: Trajectory, frames, *, initial=None
     Parameters
     ----------
     field : Field
-    trajectory : Trajectory
-        Its odometry drives the prediction (the poses are not used, except
-        the first when ``initial`` is None).
-    frames : list of Observations or arrays
-        Detections of every frame.
-    initial : (x, y, theta), optional
-        Start of the filter; default the true first pose (robots start from
-        known positions in a match).
+    odometry : OdometryInput
+        ``walk.input``: its odometry drives the prediction.
+    frames : list of ObservationInput or arrays of shape (N, 3)
+        Detections of every frame (``obs.input`` of simulated frames).
+    initial : (x, y, theta)
+        Start of the filter (robots enter a match from known positions).
     initial_cov : (float, float)
         Initial standard deviations, metres and radians.
     measurement_sigma : (float, float)
@@ -106,9 +130,10 @@ def track_clap_ekf(field: Field, trajectory: Trajectory, frames, *, initial=None
     space : Landmark2DSpace, optional
     """
     space = Landmark2DSpace(field) if space is None else space
+    odometry = _odometry(odometry)
     check_positive(min_radius, "min_radius")
     sp, sth = initial_cov
-    ekf = PoseEKF(_initial(trajectory, initial), np.diag([sp**2, sp**2, sth**2]))
+    ekf = PoseEKF(_initial(initial), np.diag([sp**2, sp**2, sth**2]))
     R = np.diag([measurement_sigma[0] ** 2] * 2 + [measurement_sigma[1] ** 2])
     n = len(frames)
     est, secs, ok = np.empty((n, 3)), np.empty(n), np.zeros(n, bool)
@@ -116,8 +141,8 @@ def track_clap_ekf(field: Field, trajectory: Trajectory, frames, *, initial=None
     for k, frame in enumerate(frames):
         t0 = time.perf_counter()
         if k > 0:
-            ekf.predict(trajectory.odometry[k - 1])
-        data = frame.data if isinstance(frame, Observations) else np.asarray(frame, float)
+            ekf.predict(odometry.odometry[k - 1])
+        data = _frame_data(frame)
         radius = float(np.clip(3 * np.sqrt(np.linalg.eigvalsh(ekf.cov[:2, :2])[-1]),
                                min_radius, max_radius))
         if len(data) >= 2:
@@ -146,18 +171,18 @@ def _recover(ekf, res, R, min_support) -> bool:
     return True
 
 
-def track_mcl(field: Field, trajectory: Trajectory, frames, *, initial=None,
+def track_mcl(field: Field, odometry: OdometryInput, frames, *, initial,
               n_particles: int = 500, rng=None, **options) -> TrackingRun:
-    """Monte Carlo localization fed the same odometry and detections."""
-    pf = ParticleFilter(field, n_particles, initial=_initial(trajectory, initial), rng=rng,
-                        **options)
+    """Monte Carlo localization fed the same odometry, detections and start as CLAP + EKF."""
+    odometry = _odometry(odometry)
+    pf = ParticleFilter(field, n_particles, initial=_initial(initial), rng=rng, **options)
     n = len(frames)
     est, secs, ok = np.empty((n, 3)), np.empty(n), np.zeros(n, bool)
     for k, frame in enumerate(frames):
         t0 = time.perf_counter()
         if k > 0:
-            pf.predict(trajectory.odometry[k - 1])
-        data = frame.data if isinstance(frame, Observations) else np.asarray(frame, float)
+            pf.predict(odometry.odometry[k - 1])
+        data = _frame_data(frame)
         if len(data):
             pf.update(data)
             ok[k] = True
@@ -166,15 +191,22 @@ def track_mcl(field: Field, trajectory: Trajectory, frames, *, initial=None,
     return TrackingRun("MCL", est, secs, ok)
 
 
-def tracking_errors(estimates, trajectory: Trajectory):
+def _truth(truth) -> TrajectoryTruth:
+    if not isinstance(truth, TrajectoryTruth):
+        raise ValueError(f"truth: expected a TrajectoryTruth (walk.truth), got "
+                         f"{type(truth).__name__}")
+    return truth
+
+
+def tracking_errors(estimates, truth: TrajectoryTruth):
     """Position error (metres) and absolute heading error (radians) per frame."""
-    truth = trajectory.xytheta
+    truth = _truth(truth).xytheta
     est = np.asarray(estimates, dtype=float)
     return (np.hypot(*(est[:, :2] - truth[:, :2]).T),
             np.abs(wrap_angle(est[:, 2] - truth[:, 2])))
 
 
-def tracking_summary(run: TrackingRun, trajectory: Trajectory, *, divergence: float = 1.0,
+def tracking_summary(run: TrackingRun, truth: TrajectoryTruth, *, divergence: float = 1.0,
                      jump: float = 0.3) -> dict:
     """Error statistics of one run.
 
@@ -186,8 +218,8 @@ def tracking_summary(run: TrackingRun, trajectory: Trajectory, *, divergence: fl
         ``jumps`` (frames whose estimated step exceeds the true step by more
         than ``jump`` metres), ``ms_per_frame`` (median, wall clock).
     """
-    pos, head = tracking_errors(run.estimates, trajectory)
-    truth = trajectory.xytheta
+    pos, head = tracking_errors(run.estimates, truth)
+    truth = truth.xytheta
     step_err = np.hypot(*(np.diff(run.estimates[:, :2], axis=0)
                           - np.diff(truth[:, :2], axis=0)).T)
     return {

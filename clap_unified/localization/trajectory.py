@@ -13,41 +13,86 @@ import dataclasses
 import numpy as np
 
 from .._validation import as_generator, check_int, check_positive
+from ..datatypes import freeze_arrays
 from ..geometry.lines import wrap_angle
 from ..geometry.se2 import SE2
 from .field import Field
 
-__all__ = ["Trajectory", "walk_trajectory", "relative_motion"]
+__all__ = ["OdometryInput", "Trajectory", "TrajectoryTruth", "walk_trajectory",
+           "relative_motion"]
 
 
-@dataclasses.dataclass
-class Trajectory:
-    """Ground truth and odometry of a walk.
+@dataclasses.dataclass(frozen=True)
+class OdometryInput:
+    """What a tracker may see of a walk: the odometry, nothing else.
+
+    Attributes
+    ----------
+    odometry : ndarray of shape (F - 1, 3)
+        Measured increments ``(dx, dy, dtheta)`` in the robot frame from frame
+        ``k`` to ``k + 1`` (noisy, biased, blind to pushes). Read-only.
+    dt : float
+        Seconds between frames.
+    """
+
+    odometry: np.ndarray
+    dt: float
+
+    def __post_init__(self):
+        freeze_arrays(self)
+
+    @property
+    def n_frames(self) -> int:
+        return len(self.odometry) + 1
+
+
+@dataclasses.dataclass(frozen=True)
+class TrajectoryTruth:
+    """Evaluation data of a walk: for scoring only.
 
     Attributes
     ----------
     poses : ndarray of shape (F, 3, 3)
-        ``T_field_robot`` at every frame.
-    odometry : ndarray of shape (F - 1, 3)
-        Measured increments ``(dx, dy, dtheta)`` in the robot frame from frame
-        ``k`` to ``k + 1``.
-    dt : float
-        Seconds between frames.
+        True ``T_field_robot`` at every frame.
     pushes : ndarray of int
         Frames at which an unmodelled push moved the robot.
     """
 
     poses: np.ndarray
-    odometry: np.ndarray
-    dt: float
-    pushes: np.ndarray = dataclasses.field(default_factory=lambda: np.zeros(0, int))
+    pushes: np.ndarray
+
+    def __post_init__(self):
+        freeze_arrays(self)
 
     def __len__(self) -> int:
         return len(self.poses)
 
     @property
     def xytheta(self) -> np.ndarray:
+        """True ``(x, y, theta)`` at every frame, ``(F, 3)``."""
         return SE2.to_xytheta(self.poses)
+
+
+@dataclasses.dataclass(frozen=True)
+class Trajectory:
+    """A simulated walk: the tracker's ``input`` (odometry) and the ``truth`` (poses), apart.
+
+    Trackers take ``walk.input``; :func:`~clap_unified.localization.tracking.simulate_frames`
+    (a simulator) and the error summaries take ``walk.truth``. The start pose
+    is not part of the input: a tracker is given it explicitly (robots enter
+    a RoboCup match from known positions).
+
+    Attributes
+    ----------
+    input : OdometryInput
+    truth : TrajectoryTruth
+    """
+
+    input: OdometryInput
+    truth: TrajectoryTruth
+
+    def __len__(self) -> int:
+        return len(self.truth)
 
 
 def relative_motion(a, b) -> np.ndarray:
@@ -85,19 +130,26 @@ def walk_trajectory(field: Field, n_frames: int = 300, *, dt: float = 0.2, speed
         Unmodelled disturbances (a push, a fall, a slip on the carpet): at
         this many random frames the robot is displaced by up to
         ``push_size`` (metres, radians) and the odometry does not know.
-        ``Trajectory.pushes`` lists the frames.
+        ``truth.pushes`` lists the frames.
     rng : None, int or numpy.random.Generator
+
+    Returns
+    -------
+    Trajectory
+        ``input``: the odometry and the frame period; ``truth``: the poses
+        and the push frames.
 
     Examples
     --------
     >>> from clap_unified.localization import load_field
     >>> walk = walk_trajectory(load_field("adult"), 50, rng=0)
-    >>> walk.poses.shape, walk.odometry.shape
+    >>> walk.truth.poses.shape, walk.input.odometry.shape
     ((50, 3, 3), (49, 3))
-    >>> steps = np.linalg.norm(np.diff(walk.xytheta[:, :2], axis=0), axis=1)
+    >>> steps = np.linalg.norm(np.diff(walk.truth.xytheta[:, :2], axis=0), axis=1)
     >>> bool(steps.max() <= 0.4 * 0.2 + 1e-12)
     True
-    >>> np.round(walk.odometry[0] - relative_motion(walk.poses[0], walk.poses[1]), 3).tolist()
+    >>> true_step = relative_motion(walk.truth.poses[0], walk.truth.poses[1])
+    >>> np.round(walk.input.odometry[0] - true_step, 3).tolist()
     [0.002, 0.002, 0.017]
     """
     n_frames = check_int(n_frames, "n_frames", minimum=2)
@@ -149,4 +201,4 @@ def walk_trajectory(field: Field, n_frames: int = 300, *, dt: float = 0.2, speed
                   np.abs(walked[:, 2]) + 0.1 * dist]
     odo = walked + odometry_noise * scale * rng.standard_normal(walked.shape)
     odo[:, 2] += odometry_bias * dist
-    return Trajectory(poses, odo, dt, pushed)
+    return Trajectory(OdometryInput(odo, dt), TrajectoryTruth(poses, np.asarray(pushed, int)))
