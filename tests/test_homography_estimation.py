@@ -265,3 +265,17 @@ def test_image_size_frame_clusters_like_the_data_frame():
     assert corner_error(res.model, H_TRUE, SIZE) < 2.0
     with pytest.raises(ValueError, match="size1"):
         HomographySpace.for_images((0, 480), SIZE)
+
+
+def test_progressive_sampling_never_repeats_a_sample():
+    """Small first pools (8 matches: 70 subsets) give distinct samples, so no copied support."""
+    data = pair_matches(seed=11, outliers=0.5)
+    space = HomographySpace.for_data(data)
+    hs = homography_hypotheses(space, data, 400, quality=np.arange(len(data), dtype=float),
+                               rng=0)
+    rows = np.sort(hs.samples, axis=1)
+    assert len(hs) == 400 and len(np.unique(rows, axis=0)) == 400
+    few = data[:10]  # 210 subsets in all: every candidate distinct, fewer than asked
+    hs = homography_hypotheses(HomographySpace.for_data(few), few, 400,
+                               quality=np.arange(10, dtype=float), rng=0)
+    assert 150 < len(hs) <= 210 and len(np.unique(np.sort(hs.samples, axis=1), axis=0)) == len(hs)

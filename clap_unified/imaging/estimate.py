@@ -74,7 +74,8 @@ def homography_hypotheses(space, matches, n: int = 400, *, quality=None, pools: 
     quality : ndarray of shape (N,), optional
         Lower is better. When given, the ``n`` draws are split into ``pools``
         groups drawn from the best ``m_1 < m_2 < ... = N`` matches
-        (geometrically growing, the first ``min_pool``).
+        (geometrically growing, the first ``min_pool``); no 4-subset is
+        drawn twice (a small pool may then give fewer candidates).
     pools, min_pool : int
     rng : None, int or numpy.random.Generator
 
@@ -105,11 +106,26 @@ def homography_hypotheses(space, matches, n: int = 400, *, quality=None, pools: 
     g = as_generator(rng)
     models, samples = [], []
     drawn = bad = 0
+    seen = set()
     for size, k in zip(sizes, per, strict=True):
         if k == 0:
             continue
-        # a few extra draws so degenerate samples do not leave the pool short
-        idx = order[sample_subsets(int(size), 4, int(k) + 8, rng=g)]
+        # distinct samples only: the first pools are small (8 matches have 70
+        # 4-subsets), and a repeated sample would add a copy of a candidate,
+        # support that no new data gives (and exact ties between clusters)
+        idx = []
+        for _ in range(8):
+            # a few extra draws so degenerate samples do not leave the pool short
+            for row in np.sort(order[sample_subsets(int(size), 4, int(k) + 8, rng=g)], axis=1):
+                key = row.tobytes()
+                if key not in seen and len(idx) < k + 8:
+                    seen.add(key)
+                    idx.append(row)
+            if len(idx) >= k + 8:
+                break
+        if not idx:
+            continue
+        idx = np.array(idx)
         mod, owner = space.solve_minimal(data, idx)
         drawn += len(idx)
         bad += len(idx) - len(owner)

@@ -10,6 +10,7 @@ scores them.
 
 from __future__ import annotations
 
+import dataclasses
 import time
 from dataclasses import dataclass
 
@@ -19,7 +20,8 @@ from .datasets.homography_benchmarks import HomographyInput, HomographyTruth
 from .estimate import estimate_homography
 from .metrics import corner_error, lie_error, symmetric_reprojection_error
 
-__all__ = ["EVALUATED", "PairMatches", "evaluate_pair", "summarise", "vpg_pair_matches"]
+__all__ = ["EVALUATED", "PairMatches", "evaluate_pair", "evaluate_trials", "shuffled_pair",
+           "summarise", "vpg_pair_matches"]
 
 #: Methods compared by default: label -> (estimator name, uses match quality).
 EVALUATED = {
@@ -119,6 +121,78 @@ def evaluate_pair(pair, *, size=None, methods=None, seed: int = 0, repeat: int =
                      "lie": lie_error(H, H_gt), "corner": corner_error(H, H_gt, size),
                      "inliers": res.n_inliers, "recall": recall, "sre": sre,
                      "validation": val, "success": bool(res.success)})
+    return rows
+
+
+def shuffled_pair(pair, seed: int):
+    """``pair`` with its matches in a random order (labels and quality follow).
+
+    OpenCV's estimators are deterministic for a given list but depend on where
+    the inliers sit in it; a trial of an experiment is one order of the
+    matches (and one seed of the library's estimators).
+
+    Parameters
+    ----------
+    pair : HomographyPair or PairMatches
+    seed : int
+        Seed of the permutation.
+
+    Returns
+    -------
+    same type as ``pair``
+        ``input.matches``, ``input.quality`` and ``truth.inliers`` permuted
+        alike; ``truth.H`` and ``truth.validation`` unchanged.
+
+    Examples
+    --------
+    >>> from clap_unified.imaging.datasets import HomographyInput, HomographyPair, HomographyTruth
+    >>> p = HomographyPair("p", "test", HomographyInput(np.arange(20.0).reshape(5, 4)),
+    ...                    HomographyTruth(np.eye(3), np.arange(5) < 2, np.zeros((0, 4))))
+    >>> q = shuffled_pair(p, 1)
+    >>> bool(np.all(q.input.matches[q.truth.inliers, 0] < 8))
+    True
+    """
+    order = np.random.default_rng(seed).permutation(len(pair.input.matches))
+    q = pair.input.quality
+    inp = dataclasses.replace(pair.input, matches=pair.input.matches[order],
+                              quality=None if q is None else q[order])
+    truth = dataclasses.replace(pair.truth, inliers=pair.truth.inliers[order])
+    return dataclasses.replace(pair, input=inp, truth=truth)
+
+
+def evaluate_trials(pair, trials: int, *, methods=None, **options) -> list[dict]:
+    """:func:`evaluate_pair` on ``trials`` shuffled copies of ``pair``.
+
+    Trial ``t`` orders the matches by :func:`shuffled_pair` with seed ``t``
+    and seeds the library's estimators with ``t``.
+
+    Parameters
+    ----------
+    pair : HomographyPair or PairMatches
+    trials : int
+        Number of trials (at least 1).
+    methods : dict, optional
+        As in :func:`evaluate_pair`.
+    options
+        Passed to :func:`evaluate_pair` (``size``, estimator options).
+
+    Returns
+    -------
+    list of dict
+        The rows of every trial, each with a ``trial`` key.
+
+    Raises
+    ------
+    ValueError
+        ``trials`` below 1.
+    """
+    if int(trials) < 1:
+        raise ValueError(f"trials: expected at least 1, got {trials}")
+    rows = []
+    for t in range(int(trials)):
+        for r in evaluate_pair(shuffled_pair(pair, t), methods=methods, seed=t, **options):
+            r["trial"] = t
+            rows.append(r)
     return rows
 
 
