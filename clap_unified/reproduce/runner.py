@@ -132,14 +132,18 @@ def _client(address: str, timeout: float = 5.0):
 def _execute(todo, quick, jobs, scheduler, bars):
     """Yield results of ``todo`` as they finish."""
     if scheduler is not None:
-        from distributed import as_completed
+        from distributed import wait
 
         client = _client(scheduler) if isinstance(scheduler, str) else scheduler
         try:
             futures = [client.submit(run_experiment, n, quick, 0, False, pure=False,
                                      key=f"clap-unified-{n}-{time.time_ns()}") for n in todo]
-            for fut in as_completed(futures):
-                yield fut.result()
+            pending = set(futures)
+            with client.as_current():
+                while pending:
+                    done, pending = wait(pending, return_when="FIRST_COMPLETED")
+                    for fut in done:
+                        yield fut.result()
         finally:
             if isinstance(scheduler, str):
                 client.close()
