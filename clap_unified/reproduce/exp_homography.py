@@ -198,7 +198,7 @@ experiment("homography_synthetic",
            "Image stitching S01-S12 (substitute): Lie distance to the ground truth",
            quick={"images_per_set": 2}, full={"images_per_set": 3},
            datasets=(), figures=lambda out: figures_lie(out, "synthetic"),
-           expected_seconds=(40.0, 90.0))(run_homography_synthetic)
+           expected_seconds=(15.0, 20.0))(run_homography_synthetic)
 
 
 # -------------------------------------------------------------- homogr, EVD
@@ -221,7 +221,7 @@ def run_homography_homogr(params: dict, seed: int) -> dict:
 experiment("homography_homogr", "homogr: Lie distance to the ground truth (real planar pairs)",
            quick={"pairs": None}, full={"pairs": None}, datasets=("homography",),
            figures=lambda out: figures_lie(out, "homogr"),
-           expected_seconds=(5.0, 5.0))(run_homography_homogr)
+           expected_seconds=(2.0, 2.0))(run_homography_homogr)
 
 
 def run_homography_evd(params: dict, seed: int) -> dict:
@@ -281,7 +281,7 @@ def figures_evd(output: dict) -> dict:
 
 experiment("homography_evd", "EVD: extreme views, 2-51 % inliers",
            quick={}, full={}, datasets=("homography",), figures=figures_evd,
-           expected_seconds=(5.0, 5.0))(run_homography_evd)
+           expected_seconds=(2.0, 2.0))(run_homography_evd)
 
 
 # ------------------------------------------------------------------ S13-S36
@@ -362,4 +362,4 @@ def figures_stitching_real(output: dict) -> dict:
 experiment("stitching_real", "Image stitching S13-S36 (substitute): SRE and inlier ratio",
            quick={"max_side": 800, "pairs_per_set": 1},
            full={"max_side": 1200, "pairs_per_set": 5}, datasets=("stitching_sets",),
-           figures=figures_stitching_real, expected_seconds=(40.0, 150.0))(run_stitching_real)
+           figures=figures_stitching_real, expected_seconds=(20.0, 25.0))(run_stitching_real)

@@ -101,7 +101,7 @@ experiment("localization3d", "3D localization: error CDF of CLAP and RANSAC agai
            quick={"ratios": [0.0, 0.3, 0.6, 0.7, 0.8], "frames": 20, "candidates": 1000},
            full={"ratios": [0.0, 0.2, 0.4, 0.5, 0.6, 0.7, 0.8], "frames": 60,
                  "candidates": 1000},
-           figures=figures_localization3d, expected_seconds=(15.0, 60.0))(run_localization3d)
+           figures=figures_localization3d, expected_seconds=(15.0, 40.0))(run_localization3d)
 
 
 # ------------------------------------------------------------------------- 2D
@@ -195,4 +195,4 @@ def figures_localization2d(output: dict) -> dict:
 experiment("localization2d", "2D localization on a RoboCup field: false detections, symmetry",
            quick={"false_positive_rates": [0.0, 0.2, 0.4, 0.6], "frames": 40},
            full={"false_positive_rates": [0.0, 0.1, 0.2, 0.3, 0.4, 0.5, 0.6], "frames": 150},
-           figures=figures_localization2d, expected_seconds=(10.0, 60.0))(run_localization2d)
+           figures=figures_localization2d, expected_seconds=(3.0, 8.0))(run_localization2d)

@@ -22,6 +22,7 @@ import os
 import sys
 import tempfile
 import time
+import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -154,8 +155,12 @@ def _execute(todo, quick, jobs, scheduler, bars):
         from joblib import Parallel, delayed
 
         par = Parallel(n_jobs=jobs, backend="loky", return_as="generator_unordered")
-        yield from par(delayed(run_experiment)(n, quick, i + 1, bars)
-                       for i, n in enumerate(todo))
+        with warnings.catch_warnings():
+            # loky replaces a worker that grew in memory and says so; results are unaffected
+            warnings.filterwarnings("ignore", message="A worker stopped while some jobs",
+                                    category=UserWarning)
+            yield from par(delayed(run_experiment)(n, quick, i + 1, bars)
+                           for i, n in enumerate(todo))
 
 
 def reproduce(out, *, quick: bool = False, jobs: int = 1, scheduler=None, force: bool = False,
