@@ -120,8 +120,27 @@ def test_missing_data_stops_or_marks_claims_unavailable(tmp_path, monkeypatch):
                     **quiet)
     verdicts = {c["key"]: c for c in res.claims}
     assert verdicts["stitching_outliers"]["verdict"] == "data unavailable"
-    assert "no_mirror" in verdicts["stitching_outliers"]["measured"]
-    assert res.skipped and res.ran == []
+    assert "data set homography not available" in verdicts["stitching_outliers"]["measured"]
+    assert "no_mirror" in res.skipped["homography_evd"]  # the full message says where
+    assert res.ran == []
+
+
+def test_real_vpg_is_used_when_present_and_optional_otherwise(tmp_path, monkeypatch):
+    from clap_unified.imaging.datasets import make_synthetic_vpg
+
+    quiet = {"progress": False, "log": lambda s: None}
+    monkeypatch.setenv("CLAP_UNIFIED_VPG", str(tmp_path / "none"))
+    absent = reproduce(tmp_path / "a", quick=True, only=["homography_vpg"], **quiet)
+    assert "homography_vpg" in absent.skipped  # no error without --allow-missing
+    # a folder in the VPG layout (Sxx/NN.jpg, mNN-MM.txt, ...) is read as the real data set
+    make_synthetic_vpg(tmp_path / "vpg", scenes=["brick"], images_per_set=2, rng=0)
+    monkeypatch.setenv("CLAP_UNIFIED_VPG", str(tmp_path / "vpg"))
+    present = reproduce(tmp_path / "b", quick=True, only=["homography_vpg"], **quiet)
+    assert present.ran == ["homography_vpg"]
+    claim = next(c for c in present.claims if c["key"] == "vpg_lie")
+    assert claim["verdict"] != "data unavailable"
+    assert claim["measured"].startswith("VPG S01-S12")
+    assert (tmp_path / "b" / "figures" / "vpg_lie_hist_log.png").is_file()
 
 
 def test_write_atomic_leaves_the_old_file_when_interrupted(tmp_path, monkeypatch):

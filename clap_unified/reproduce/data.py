@@ -25,10 +25,17 @@ def _stitching_sets() -> None:
         fetch("stitching_sets", relpath)
 
 
+def _vpg() -> None:
+    from ..imaging.datasets import vpg_root
+
+    vpg_root(download=True)
+
+
 #: Data set name -> check raising ``OSError`` or ``ValueError`` when it is missing or corrupt.
 DATASETS = {
     "homography": _homography,
     "stitching_sets": _stitching_sets,
+    "vpg": _vpg,
 }
 
 

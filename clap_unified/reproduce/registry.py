@@ -46,6 +46,10 @@ class Experiment:
         ``figures(output) -> {name: matplotlib Figure}``.
     expected_seconds : (float, float)
         Rough one-core running time of the quick and the full version.
+    optional : bool
+        The paper's own data that cannot always be had (VPG): when its data set
+        is missing the experiment is skipped without stopping the run, and the
+        claims fall back on the substitute experiments.
     """
 
     name: str
@@ -57,6 +61,7 @@ class Experiment:
     figures: Callable | None = None
     expected_seconds: tuple = (10.0, 60.0)
     version: int = 1
+    optional: bool = False
 
     def params(self, quick: bool) -> dict:
         return dict(self.quick if quick else self.full)
@@ -67,13 +72,13 @@ EXPERIMENTS: dict[str, Experiment] = {}
 
 
 def experiment(name: str, title: str, *, quick: dict, full: dict, datasets=(), figures=None,
-               expected_seconds=(10.0, 60.0), version: int = 1):
+               expected_seconds=(10.0, 60.0), version: int = 1, optional: bool = False):
     """Decorator registering ``run(params, seed)`` as an :class:`Experiment` named ``name``."""
 
     def wrap(run):
         EXPERIMENTS[name] = Experiment(name, title, run, dict(quick), dict(full),
                                        tuple(datasets), figures, tuple(expected_seconds),
-                                       version)
+                                       version, optional)
         return run
 
     return wrap

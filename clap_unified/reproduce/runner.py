@@ -218,8 +218,9 @@ def reproduce(out, *, quick: bool = False, jobs: int = 1, scheduler=None, force:
             why = [missing[d] for d in EXPERIMENTS[n].datasets if d in missing]
             if why:
                 skipped[n] = why[0]
-        if skipped and not allow_missing:
-            first = next(iter(missing.values()))
+        needed = [n for n in skipped if not EXPERIMENTS[n].optional]
+        if needed and not allow_missing:
+            first = skipped[needed[0]]
             raise MissingDataError(f"{first} (or pass --allow-missing to mark the dependent "
                                    f"claims 'data unavailable')")
         outputs, result = {}, Reproduction(out, [], skipped=skipped)
@@ -254,7 +255,10 @@ def reproduce(out, *, quick: bool = False, jobs: int = 1, scheduler=None, force:
     finally:
         if isinstance(scheduler, str):
             client.close()
-    result.claims = evaluate_claims(outputs, skipped)
+    # the claims name what is missing; the full message (local paths) is in ``result.skipped``
+    result.claims = evaluate_claims(outputs, {
+        n: "data set " + ", ".join(d for d in EXPERIMENTS[n].datasets if d in missing)
+           + " not available here" for n in skipped})
     _write_report(out, outputs, result.claims, quick)
     result.seconds = time.perf_counter() - t0
     write_atomic(out / "timings.json", _dumps({"experiments": timings,
