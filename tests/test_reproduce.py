@@ -87,6 +87,14 @@ def test_cache_is_reused_unless_forced_and_a_broken_cache_is_recomputed(serial_r
     assert json.loads(cache.read_text())["key"]["mode"] == "quick"
 
 
+def test_a_code_change_invalidates_the_cache(tmp_path, monkeypatch):
+    only = ["homography_homogr"]
+    quiet = {"progress": False, "log": lambda s: None}
+    reproduce(tmp_path, quick=True, only=only, **quiet)
+    monkeypatch.setattr("clap_unified.reproduce.runner.code_fingerprint", lambda: "edited")
+    assert reproduce(tmp_path, quick=True, only=only, **quiet).ran == only
+
+
 def test_seed_comes_from_the_name_only():
     assert seed_for("localization2d") == seed_for("localization2d")
     assert len({seed_for(n) for n in EXPERIMENTS}) == len(EXPERIMENTS)

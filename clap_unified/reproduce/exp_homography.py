@@ -126,8 +126,8 @@ def run_homography_synthetic(params: dict, seed: int) -> dict:
         sets = load_synthetic_vpg(tmp, rng=np.random.default_rng([seed, 0]),
                                   images_per_set=params["images_per_set"])
         rows, thumbs = _lie_over_sets(sets, seed, "homography_synthetic", size=(640, 480))
-    return {"data": "substitute for VPG S01-S12: synthetic VPG-layout sets (scikit-image "
-                    "photographs and textures, pure-rotation cameras, exact ground truth), "
+    return {"data": "synthetic VPG-layout sets (substitute for VPG S01-S12): scikit-image "
+                    "photographs and textures, pure-rotation cameras, exact ground truth, "
                     "SIFT matches as input",
             "tables": {"lie": rows}, "numbers": _lie_numbers(rows),
             "artifacts": {"mosaics": thumbs}}
@@ -140,8 +140,8 @@ def run_homography_vpg(params: dict, seed: int) -> dict:
     names = [n for n in list_vpg_sets(root) if int(n[1:]) <= 12][: params.get("sets")]
     sets = [load_vpg_set(root / n) for n in names]
     rows, thumbs = _lie_over_sets(sets, seed, "homography_vpg")
-    return {"data": "VPG S01-S12 (Chen et al. 2020; ground-truth correspondences score, "
-                    "SIFT matches are the input)",
+    return {"data": "VPG S01-S12: Chen et al. 2020; ground-truth correspondences score, "
+                    "SIFT matches are the input",
             "tables": {"lie": rows}, "numbers": _lie_numbers(rows),
             "artifacts": {"mosaics": thumbs}}
 
@@ -240,8 +240,8 @@ def run_homography_homogr(params: dict, seed: int) -> dict:
     for k, name in enumerate(progress(names, "homography_homogr")):
         pair = load_homogr(name, images=False)
         rows += _scored_rows(name, name, evaluate_pair(pair, methods=METHODS, seed=seed + k))
-    return {"data": "homogr (Lebeda, Matas, Chum; 16 real planar pairs, ground-truth "
-                    "homography; the label-0 tentative matches are the input)",
+    return {"data": "homogr: Lebeda, Matas, Chum; 16 real planar pairs, ground-truth "
+                    "homography; the label-0 tentative matches are the input",
             "tables": {"lie": rows},
             "numbers": {"median_lie": _medians(rows, "lie"), "paired": _paired(rows),
                         "paired_magsac": _paired(rows, "CLAP", "MAGSAC++")}}
@@ -264,8 +264,8 @@ def run_homography_evd(params: dict, seed: int) -> dict:
         for r in _scored_rows(name, name, evaluate_pair(pair, methods=methods, seed=seed + k)):
             r["inlier_ratio"] = float(np.mean(pair.truth.inliers))
             rows.append(r)
-    return {"data": "EVD (extreme view dataset; 15 pairs, 2-51 % labelled inliers; all "
-                    "tentative matches and their SIFT ratios are the input)",
+    return {"data": "EVD: extreme view dataset, 15 pairs, 2-51 % labelled inliers; all "
+                    "tentative matches and their SIFT ratios are the input",
             "tables": {"lie": rows},
             "numbers": {"median_lie": _medians(rows, "lie"),
                         "median_recall": _medians(rows, "recall"),
@@ -354,8 +354,8 @@ def run_stitching_real(params: dict, seed: int) -> dict:
     numbers = {"median_sre": _medians(rows, "sre_px"),
                "median_inlier_ratio": _medians(rows, "inlier_ratio"),
                "pairs": len(jobs)}
-    return {"data": "substitute for VPG S13-S36: eleven real panorama sets with parallax "
-                    "(stitching_sets), no ground truth; SIFT matches as input",
+    return {"data": "eleven real panorama sets (substitute for VPG S13-S36): parallax, no "
+                    "ground truth (stitching_sets); SIFT matches as input",
             "tables": {"sre": rows}, "numbers": numbers, "artifacts": {"mosaics": thumbs}}
 
 

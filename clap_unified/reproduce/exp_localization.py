@@ -65,9 +65,9 @@ def run_localization3d(params: dict, seed: int) -> dict:
                   r["e_r_deg"] if r["e_r_deg"] is not None else np.inf)
                  for r in rows if r["outlier_ratio"] == o and r["method"] == method]
             numbers[f"{method}@{o:.2f}"] = _rates(e)
-    return {"data": "simulated typed 3D landmark detections (24-landmark lab map, MoCap-like "
-                    "trajectory): substitute for the paper's MoCap recordings, which are not "
-                    "public",
+    return {"data": "simulated 3D landmark detections (substitute for the paper's MoCap "
+                    "recordings, which are not public): 24-landmark lab map, MoCap-like "
+                    "trajectory, typed detections with false ones",
             "tables": {"errors": rows}, "numbers": numbers}
 
 
@@ -154,8 +154,9 @@ def run_localization2d(params: dict, seed: int) -> dict:
     both = [r["pose_and_mirror"] for r in sym_rows]
     numbers["symmetry"] = {"frames": len(sym_rows),
                            "pose_and_mirror_tied": float(np.mean(both)) if both else 0.0}
-    return {"data": "simulated detections on the RoboCup AdultSize field (camera model, "
-                    "misses, false detections); the predecessor's robot logs are not public",
+    return {"data": "simulated detections on the AdultSize field (substitute for the "
+                    "predecessor's robot logs, which are not public): camera model, misses, "
+                    "false detections",
             "tables": {"errors": rows, "symmetry": sym_rows}, "numbers": numbers}
 
 
