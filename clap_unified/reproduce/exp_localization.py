@@ -78,14 +78,20 @@ def figures_localization3d(output: dict) -> dict:
     ratios = sorted({r["outlier_ratio"] for r in rows})
     fig, axes = plt.subplots(2, len(ratios), figsize=(2.6 * len(ratios), 5.0), sharey=True,
                              squeeze=False)
+    from matplotlib.ticker import NullFormatter
+
+    # CLAP wide and pale underneath, RANSAC dashed on top: identical curves stay visible
+    styles = {"clap": {"color": "C3", "lw": 3.5, "alpha": 0.5},
+              "ransac": {"color": "C0", "lw": 1.2, "ls": "--"}}
     for j, o in enumerate(ratios):
-        for method, style in (("clap", "C3"), ("ransac", "C0")):
+        for method, style in styles.items():
             sel = [r for r in rows if r["outlier_ratio"] == o and r["method"] == method]
             for k, key, scale in ((0, "e_t_m", 100.0), (1, "e_r_deg", 1.0)):
                 v = np.sort([r[key] * scale if r[key] is not None else np.inf for r in sel])
                 axes[k, j].step(v, np.arange(1, len(v) + 1) / len(v), where="post",
-                                color=style, label=method.upper())
+                                label=method.upper(), **style)
                 axes[k, j].set_xscale("log")
+                axes[k, j].xaxis.set_minor_formatter(NullFormatter())
         axes[0, j].set_title(f"{o:.0%} false detections", fontsize=9)
         axes[0, j].set_xlabel("translation error [cm]")
         axes[1, j].set_xlabel("rotation error [deg]")
