@@ -181,3 +181,30 @@ def test_vpg_reader_splits_a_real_layout(tmp_path):
     assert not s.truth.correspondences[(1, 2)].flags.writeable
     with pytest.raises(ValueError, match="m02-03"):
         s.truth.H(2, 3)
+
+
+_CHAPTER_SNIPPET = """
+from clap_unified.imaging.datasets import load_evd
+from clap_unified.imaging.evaluation import evaluate_trials
+for name in ("fox", "dum"):
+    pair = load_evd(name, images=False)
+    for r in evaluate_trials(pair, 3, methods={"CLAP": ("clap", False),
+                                               "CLAP ordered": ("clap", True)}):
+        print(name, r["trial"], r["method"], f"{r['recall']:.2f}", f"{r['lie']:.3g}")
+"""
+
+
+@needs_mirror
+def test_chapter_results_do_not_depend_on_the_openblas_thread_count():
+    """Chapter 5's EVD experiment prints the same with one and with two OpenBLAS threads."""
+    import os
+    import subprocess
+    import sys
+
+    outs = []
+    for threads in ("1", "2"):
+        env = dict(os.environ, OPENBLAS_NUM_THREADS=threads)
+        run = subprocess.run([sys.executable, "-c", _CHAPTER_SNIPPET], env=env, text=True,
+                             capture_output=True, timeout=300, check=True)
+        outs.append(run.stdout)
+    assert outs[0].count("\n") == 2 * 3 * 2 and outs[0] == outs[1], outs
