@@ -48,7 +48,7 @@ def test_reduced_quick_run_writes_claims_tables_and_figures(serial_run):
     for name in ("localization2d_accuracy", "homogr_lie_hist_log", "homogr_lie_per_scene"):
         assert (out / "figures" / f"{name}.png").stat().st_size > 1000
         assert (out / "figures" / f"{name}.svg").stat().st_size > 1000
-    assert "| claim |" in (out / "claims.md").read_text()
+    assert "| claim (the paper's words) | verdict |" in (out / "claims.md").read_text()
     assert not list(out.rglob("*.part")), "a temporary file was left behind"
 
 
@@ -167,9 +167,11 @@ def test_write_atomic_leaves_the_old_file_when_interrupted(tmp_path, monkeypatch
 
 def _numbers_3d(clap_ok, ransac_ok):
     n = {}
-    for o in ("0.00", "0.60", "0.80"):
-        n[f"clap@{o}"] = {"ok": clap_ok, "gross": 0.0, "n": 20, "median_cm": 2.0}
-        n[f"ransac@{o}"] = {"ok": ransac_ok, "gross": 0.0, "n": 20, "median_cm": 2.0}
+    for setting in ("typed", "correspondences"):
+        for o in ("0.00", "0.60", "0.80"):
+            n[f"{setting}:clap@{o}"] = {"ok": clap_ok, "gross": 0.0, "n": 20, "median_cm": 2.0}
+            n[f"{setting}:ransac@{o}"] = {"ok": ransac_ok, "gross": 0.0, "n": 20,
+                                          "median_cm": 2.0}
     return {"localization3d": {"numbers": n, "data": "x"}}
 
 

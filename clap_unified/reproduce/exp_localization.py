@@ -16,18 +16,20 @@ import numpy as np
 
 from .registry import experiment, progress
 
-#: A pose is correct within this translation (m) and rotation (deg) error.
-OK_TRANSLATION, OK_ROTATION = 0.10, 2.0
-#: A pose is a spurious solution beyond this translation (m) or rotation (deg) error.
-GROSS_TRANSLATION, GROSS_ROTATION = 0.5, 10.0
 
-
-def _rates(errors) -> dict:
+def _rates(errors, ok_within, gross_beyond) -> dict:
+    """Share of poses within ``ok_within`` (m, deg), share beyond ``gross_beyond``, median."""
     e = np.asarray(errors, dtype=float).reshape(-1, 2)
-    ok = (e[:, 0] < OK_TRANSLATION) & (e[:, 1] < OK_ROTATION)
-    gross = ~((e[:, 0] <= GROSS_TRANSLATION) & (e[:, 1] <= GROSS_ROTATION))
+    ok = (e[:, 0] < ok_within[0]) & (e[:, 1] < ok_within[1])
+    gross = ~((e[:, 0] <= gross_beyond[0]) & (e[:, 1] <= gross_beyond[1]))
     return {"n": len(e), "ok": float(ok.mean()), "gross": float(gross.mean()),
             "median_cm": float(np.median(e[:, 0]) * 100)}
+
+
+def _errors(rows, **match) -> list:
+    return [(r["e_t_m"] if r["e_t_m"] is not None else np.inf,
+             r["e_r_deg"] if r["e_r_deg"] is not None else np.inf)
+            for r in rows if all(r[k] == v for k, v in match.items())]
 
 
 def _inf_to_none(x: float):
@@ -35,8 +37,14 @@ def _inf_to_none(x: float):
 
 
 # ------------------------------------------------------------------------- 3D
+#: 3D (as chapter 4): correct within 5 cm and 1 deg, spurious beyond 0.5 m or 5 deg.
+OK_3D, GROSS_3D = (0.05, 1.0), (0.5, 5.0)
+#: The front end's pose guess for the putative correspondences: 0.3 m and 3 deg off.
+GUESS_3D = (0.3, 3.0)
+
+
 def run_localization3d(params: dict, seed: int) -> dict:
-    from ..localization.localize3d import localize3d, pose_errors
+    from ..localization.localize3d import align_correspondences, localize3d, pose_errors
     from ..localization.map3d import lab_map
     from ..localization.scene3d import mocap_trajectory, simulate_detections
     from ..spaces import generate_hypotheses
@@ -44,73 +52,89 @@ def run_localization3d(params: dict, seed: int) -> dict:
     lab = lab_map()
     space = lab.space()
     trajectory = mocap_trajectory(params["frames"], rng=np.random.default_rng([seed, 0]))
+    guess = (GUESS_3D[0], np.radians(GUESS_3D[1]))
     rows = []
     jobs = [(i, o, f) for i, o in enumerate(params["ratios"]) for f in range(params["frames"])]
     for i, o, f in progress(jobs, "localization3d"):
-        det = simulate_detections(lab, trajectory[f], outlier_ratio=o,
+        det = simulate_detections(lab, trajectory[f], outlier_ratio=o, prior_error=guess,
                                   rng=np.random.default_rng([seed, 1, i, f]))
-        hyps = generate_hypotheses(space, det.input.data, params["candidates"],
+        inp = det.input
+        hyps = generate_hypotheses(space, inp.data, params["candidates"],
                                    rng=np.random.default_rng([seed, 2, i, f]))
+        corr = inp.correspondences(lab)
         for method in ("clap", "ransac"):
-            r = localize3d(det.input.data, lab, method=method, space=space, hypotheses=hyps,
-                           rng=np.random.default_rng([seed, 3, i, f]))
-            e_t, e_r = pose_errors(r.model, det.truth.pose) if r else (np.inf, np.inf)
-            rows.append({"outlier_ratio": o, "frame": f, "method": method,
-                         "detections": len(det), "e_t_m": _inf_to_none(e_t),
-                         "e_r_deg": _inf_to_none(e_r)})
+            typed = localize3d(inp.data, lab, method=method, space=space, hypotheses=hyps,
+                               rng=np.random.default_rng([seed, 3, i, f]))
+            putative = align_correspondences(corr, method=method, n_samples=params["triplets"],
+                                             rng=np.random.default_rng([seed, 4, i, f]))
+            for setting, r in (("typed", typed), ("correspondences", putative)):
+                e_t, e_r = pose_errors(r.model, det.truth.pose) if r else (np.inf, np.inf)
+                rows.append({"setting": setting, "outlier_ratio": o, "frame": f,
+                             "method": method, "detections": len(inp),
+                             "e_t_m": _inf_to_none(e_t), "e_r_deg": _inf_to_none(e_r)})
     numbers = {}
-    for o in params["ratios"]:
-        for method in ("clap", "ransac"):
-            e = [(r["e_t_m"] if r["e_t_m"] is not None else np.inf,
-                  r["e_r_deg"] if r["e_r_deg"] is not None else np.inf)
-                 for r in rows if r["outlier_ratio"] == o and r["method"] == method]
-            numbers[f"{method}@{o:.2f}"] = _rates(e)
+    for setting in ("typed", "correspondences"):
+        for o in params["ratios"]:
+            for method in ("clap", "ransac"):
+                numbers[f"{setting}:{method}@{o:.2f}"] = _rates(
+                    _errors(rows, setting=setting, outlier_ratio=o, method=method),
+                    OK_3D, GROSS_3D)
     return {"data": "simulated 3D landmark detections (substitute for the paper's MoCap "
                     "recordings, which are not public): 24-landmark lab map, MoCap-like "
-                    "trajectory, typed detections with false ones",
+                    "trajectory; typed detections (CLAP and RANSAC on the same candidates) "
+                    "and putative correspondences from a front end with a 0.3 m / 3 deg pose "
+                    "guess (the same triplets for both)",
             "tables": {"errors": rows}, "numbers": numbers}
 
 
 def figures_localization3d(output: dict) -> dict:
     import matplotlib.pyplot as plt
+    from matplotlib.ticker import NullFormatter
 
     rows = output["tables"]["errors"]
     ratios = sorted({r["outlier_ratio"] for r in rows})
-    fig, axes = plt.subplots(2, len(ratios), figsize=(2.6 * len(ratios), 5.0), sharey=True,
-                             squeeze=False)
-    from matplotlib.ticker import NullFormatter
-
+    settings = ("typed", "correspondences")
     # CLAP wide and pale underneath, RANSAC dashed on top: identical curves stay visible
     styles = {"clap": {"color": "C3", "lw": 3.5, "alpha": 0.5},
               "ransac": {"color": "C0", "lw": 1.2, "ls": "--"}}
-    for j, o in enumerate(ratios):
-        for method, style in styles.items():
-            sel = [r for r in rows if r["outlier_ratio"] == o and r["method"] == method]
-            for k, key, scale in ((0, "e_t_m", 100.0), (1, "e_r_deg", 1.0)):
-                v = np.sort([r[key] * scale if r[key] is not None else np.inf for r in sel])
-                axes[k, j].step(v, np.arange(1, len(v) + 1) / len(v), where="post",
-                                label=method.upper(), **style)
-                axes[k, j].set_xscale("log")
-                axes[k, j].xaxis.set_minor_formatter(NullFormatter())
-        axes[0, j].set_title(f"{o:.0%} false detections", fontsize=9)
-        axes[0, j].set_xlabel("translation error [cm]")
-        axes[1, j].set_xlabel("rotation error [deg]")
-    axes[0, 0].set_ylabel("fraction of frames")
-    axes[1, 0].set_ylabel("fraction of frames")
-    axes[0, 0].legend(fontsize=8)
-    fig.suptitle("3D localization error CDF (" + output["data"].split(":")[0] + ")", fontsize=10)
+    fig, axes = plt.subplots(2 * len(settings), len(ratios),
+                             figsize=(2.3 * len(ratios), 2.1 * 2 * len(settings)), sharey=True,
+                             squeeze=False)
+    for s_i, setting in enumerate(settings):
+        for j, o in enumerate(ratios):
+            for method, style in styles.items():
+                e = np.array(_errors(rows, setting=setting, outlier_ratio=o, method=method))
+                for k, scale in ((0, 100.0), (1, 1.0)):
+                    ax = axes[2 * s_i + k, j]
+                    v = np.sort(e[:, k] * scale)
+                    ax.step(v, np.arange(1, len(v) + 1) / len(v), where="post",
+                            label=method.upper(), **style)
+                    ax.set_xscale("log")
+                    ax.xaxis.set_minor_formatter(NullFormatter())
+                    ax.set_xlabel("translation error [cm]" if k == 0 else
+                                  "rotation error [deg]", fontsize=8)
+            axes[2 * s_i, j].set_title(f"{setting}, {o:.0%} false", fontsize=8)
+        for k in (0, 1):
+            axes[2 * s_i + k, 0].set_ylabel("fraction of frames", fontsize=8)
+    axes[0, 0].legend(fontsize=7)
+    fig.suptitle("3D localization error CDF (" + output["data"].split(":")[0] + ")",
+                 fontsize=10)
     fig.tight_layout()
     return {"localization3d_error_cdf": fig}
 
 
 experiment("localization3d", "3D localization: error CDF of CLAP and RANSAC against outliers",
-           quick={"ratios": [0.0, 0.3, 0.6, 0.7, 0.8], "frames": 20, "candidates": 1000},
+           quick={"ratios": [0.0, 0.4, 0.6, 0.7, 0.8], "frames": 20, "candidates": 1000,
+                  "triplets": 300},
            full={"ratios": [0.0, 0.2, 0.4, 0.5, 0.6, 0.7, 0.8], "frames": 60,
-                 "candidates": 1000},
+                 "candidates": 1000, "triplets": 300},
            figures=figures_localization3d, expected_seconds=(15.0, 40.0))(run_localization3d)
 
 
 # ------------------------------------------------------------------------- 2D
+#: 2D (as chapter 3): correct within 10 cm and 2 deg, off beyond 1 m (or 180 deg).
+OK_2D, GROSS_2D = (0.10, 2.0), (1.0, 180.0)
+
 def run_localization2d(params: dict, seed: int) -> dict:
     from ..geometry import SE2
     from ..localization.field import load_field
@@ -153,10 +177,8 @@ def run_localization2d(params: dict, seed: int) -> dict:
     numbers = {}
     for rate in params["false_positive_rates"]:
         for method in ("clap", "ransac", "hough"):
-            e = [(r["e_t_m"] if r["e_t_m"] is not None else np.inf,
-                  r["e_r_deg"] if r["e_r_deg"] is not None else np.inf)
-                 for r in rows if r["false_positive_rate"] == rate and r["method"] == method]
-            numbers[f"{method}@{rate:.2f}"] = _rates(e)
+            numbers[f"{method}@{rate:.2f}"] = _rates(
+                _errors(rows, false_positive_rate=rate, method=method), OK_2D, GROSS_2D)
     both = [r["pose_and_mirror"] for r in sym_rows]
     numbers["symmetry"] = {"frames": len(sym_rows),
                            "pose_and_mirror_tied": float(np.mean(both)) if both else 0.0}
@@ -171,7 +193,7 @@ def _symmetry_row(r, truth, mirror, error) -> dict:
     top = r.clusters[:2]
 
     def near(target):
-        return any(e_t < 2 * OK_TRANSLATION and e_r < 2 * OK_ROTATION
+        return any(e_t < 2 * OK_2D[0] and e_r < 2 * OK_2D[1]
                    for e_t, e_r in (error(c.model, target) for c in top))
 
     tied = len(top) == 2 and top[0].support == top[1].support
@@ -191,7 +213,7 @@ def figures_localization2d(output: dict) -> dict:
         ax.plot(np.array(rates) * 100, ok, "o-", color=color, label=method.upper()
                 if method != "hough" else "Hough")
     ax.set_xlabel("false detections [%]")
-    ax.set_ylabel(f"frames within {OK_TRANSLATION * 100:.0f} cm, {OK_ROTATION:.0f} deg")
+    ax.set_ylabel(f"frames within {OK_2D[0] * 100:.0f} cm, {OK_2D[1]:.0f} deg")
     ax.set_ylim(0, 1.02)
     ax.legend(fontsize=8)
     ax.set_title("2D global localization, AdultSize field (simulated detections)", fontsize=10)

@@ -28,6 +28,8 @@ import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
 
+import numpy as np
+
 from . import registry
 from .claims import evaluate_claims
 from .data import missing_datasets
@@ -88,8 +90,24 @@ def run_experiment(name: str, quick: bool, position: int = 0, bars: bool = True)
     registry._BAR.position, registry._BAR.enabled = position, bars
     ex = EXPERIMENTS[name]
     t0 = time.perf_counter()
-    output = ex.run(ex.params(quick), seed_for(name))
+    output = _json_data(ex.run(ex.params(quick), seed_for(name)))
     return {"name": name, "output": output, "seconds": time.perf_counter() - t0}
+
+
+def _json_data(obj):
+    """``obj`` as JSON data, non-finite floats as None: the same whether fresh or cached."""
+    def clean(x):
+        if isinstance(x, dict):
+            return {str(k): clean(v) for k, v in x.items()}
+        if isinstance(x, list | tuple):
+            return [clean(v) for v in x]
+        if isinstance(x, float | np.floating):
+            return float(x) if np.isfinite(x) else None
+        if isinstance(x, np.integer | np.bool_):
+            return x.item()
+        return x
+
+    return json.loads(json.dumps(clean(obj), allow_nan=False))
 
 
 @functools.cache
@@ -272,9 +290,9 @@ def reproduce(out, *, quick: bool = False, jobs: int = 1, scheduler=None, force:
         if isinstance(scheduler, str):
             client.close()
     # the claims name what is missing; the full message (local paths) is in ``result.skipped``
-    result.claims = evaluate_claims(outputs, {
+    result.claims = _json_data(evaluate_claims(outputs, {
         n: "data set " + ", ".join(d for d in EXPERIMENTS[n].datasets if d in missing)
-           + " not available here" for n in skipped})
+           + " not available here" for n in skipped}))
     _write_report(out, outputs, result.claims, quick)
     result.seconds = time.perf_counter() - t0
     write_atomic(out / "timings.json", _dumps({"experiments": timings,
