@@ -7,9 +7,9 @@ tables and the figures into ``DIR`` (:func:`reproduce`).
 """
 
 from . import exp_homography, exp_localization  # noqa: F401  (register the experiments)
-from .claims import CLAIMS, VERDICTS, evaluate_claims
+from .claims import CLAIMS, VERDICTS, chapter_claims, evaluate_claims
 from .registry import EXPERIMENTS, seed_for
 from .runner import MissingDataError, Reproduction, claims_markdown, reproduce
 
 __all__ = ["CLAIMS", "EXPERIMENTS", "VERDICTS", "MissingDataError", "Reproduction",
-           "claims_markdown", "evaluate_claims", "reproduce", "seed_for"]
+           "chapter_claims", "claims_markdown", "evaluate_claims", "reproduce", "seed_for"]

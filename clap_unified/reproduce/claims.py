@@ -11,7 +11,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from dataclasses import dataclass
 
-__all__ = ["CLAIMS", "MARGIN", "VERDICTS", "Claim", "evaluate_claims"]
+__all__ = ["CLAIMS", "MARGIN", "VERDICTS", "Claim", "chapter_claims", "evaluate_claims"]
 
 VERDICTS = ("reproduced", "partly reproduced", "not reproduced", "data unavailable")
 
@@ -309,3 +309,21 @@ def evaluate_claims(outputs: dict, skipped: dict | None = None) -> list[dict]:
         assert entry["verdict"] in VERDICTS
         out.append(entry)
     return out
+
+
+def chapter_claims(chapter: str) -> str:
+    """Markdown list of the claims a chapter tests, with their rules and experiments.
+
+    The verdicts are on the book's front page and in ``claims.json``; a chapter
+    shows this list so that its claims are written once, here.
+
+    Examples
+    --------
+    >>> print(chapter_claims("03_localization_2d").splitlines()[0][:41])
+    * *"CLAP is particularly recognized for i
+    """
+    items = [f"* *\"{c.words}\"* ({c.section}). Experiment `{', '.join(c.experiments)}`; "
+             f"verdict rule: {c.rule}." for c in CLAIMS if c.chapter == chapter]
+    if not items:
+        raise ValueError(f"chapter: no claim is tested in {chapter!r}")
+    return "\n".join(items) + "\n"
