@@ -3,6 +3,9 @@
 from __future__ import annotations
 
 import json
+import os
+import subprocess
+import sys
 import time
 from pathlib import Path
 
@@ -10,7 +13,17 @@ import pytest
 
 from clap_unified.cli import main
 from clap_unified.reproduce import CLAIMS, EXPERIMENTS, VERDICTS, reproduce, seed_for
-from clap_unified.reproduce.claims import _judge_3d, _judge_real
+from clap_unified.reproduce.claims import (
+    _combine,
+    _judge_2d,
+    _judge_3d,
+    _judge_3d_spurious,
+    _judge_closer,
+    _judge_evd,
+    _judge_real,
+    _judge_symmetry,
+    rates_differ,
+)
 from clap_unified.reproduce.runner import MissingDataError, write_atomic
 
 #: A reduced set that still runs real experiments (a few seconds each).
@@ -83,8 +96,14 @@ def test_cache_is_reused_unless_forced_and_a_broken_cache_is_recomputed(serial_r
     cache.write_text(cache.read_text()[:100])  # an interrupted write of an older version
     broken = reproduce(tmp_path, quick=True, only=only, progress=False, log=lambda s: None)
     assert broken.ran == only
-    # a full run does not reuse a quick result
     assert json.loads(cache.read_text())["key"]["mode"] == "quick"
+    full = reproduce(tmp_path, quick=False, only=only, progress=False, log=lambda s: None)
+    assert full.ran == only  # a full run does not reuse a quick result
+    # with --only, the other experiments' cached results keep their claims
+    other = reproduce(tmp_path, quick=False, only=["homography_evd"], progress=False,
+                      log=lambda s: None)
+    assert other.ran == ["homography_evd"] and "homography_homogr" in other.reused
+    assert (tmp_path / "tables" / "homography_homogr_lie.csv").is_file()
 
 
 def test_a_code_change_invalidates_the_cache(tmp_path, monkeypatch):
@@ -96,7 +115,13 @@ def test_a_code_change_invalidates_the_cache(tmp_path, monkeypatch):
 
 
 def test_seed_comes_from_the_name_only():
-    assert seed_for("localization2d") == seed_for("localization2d")
+    # not from Python's salted hash(): two interpreters with other hash seeds agree
+    code = ("from clap_unified.reproduce import EXPERIMENTS, seed_for; "
+            "print([seed_for(n) for n in sorted(EXPERIMENTS)])")
+    outs = {subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                           env={**os.environ, "PYTHONHASHSEED": h}, check=True).stdout
+            for h in ("1", "2")}
+    assert len(outs) == 1
     assert len({seed_for(n) for n in EXPERIMENTS}) == len(EXPERIMENTS)
 
 
@@ -165,30 +190,131 @@ def test_write_atomic_leaves_the_old_file_when_interrupted(tmp_path, monkeypatch
     assert [p.name for p in tmp_path.iterdir()] == ["claims.json"]
 
 
-def _numbers_3d(clap_ok, ransac_ok):
-    n = {}
+def _numbers_3d(clap_ok, ransac_ok, clap_gross=0.0, ransac_gross=0.0, n=20,
+                ratios=("0.00", "0.60", "0.80")):
+    out = {}
     for setting in ("typed", "correspondences"):
-        for o in ("0.00", "0.60", "0.80"):
-            n[f"{setting}:clap@{o}"] = {"ok": clap_ok, "gross": 0.0, "n": 20, "median_cm": 2.0}
-            n[f"{setting}:ransac@{o}"] = {"ok": ransac_ok, "gross": 0.0, "n": 20,
+        for o in ratios:
+            out[f"{setting}:clap@{o}"] = {"ok": clap_ok, "gross": clap_gross, "n": n,
                                           "median_cm": 2.0}
-    return {"localization3d": {"numbers": n, "data": "x"}}
+            out[f"{setting}:ransac@{o}"] = {"ok": ransac_ok, "gross": ransac_gross, "n": n,
+                                            "median_cm": 2.0}
+    return {"localization3d": {"numbers": out, "data": "x"}}
 
 
-@pytest.mark.parametrize(("clap_ok", "ransac_ok", "verdict"), [
-    (0.95, 0.60, "reproduced"),
-    (0.95, 0.93, "partly reproduced"),   # robust, but within the margin of RANSAC
-    (0.50, 0.90, "not reproduced"),
+@pytest.mark.parametrize(("clap_ok", "ransac_ok", "n", "verdict"), [
+    (0.95, 0.60, 20, "reproduced"),
+    (0.95, 0.93, 20, "partly reproduced"),   # robust, but level with RANSAC
+    (0.95, 0.80, 20, "partly reproduced"),   # 0.15 apart is within 2 standard errors of 20
+    (0.95, 0.80, 200, "reproduced"),         # ... but not of 200 frames
+    (0.50, 0.90, 20, "not reproduced"),
 ])
-def test_3d_rule(clap_ok, ransac_ok, verdict):
-    assert _judge_3d(_numbers_3d(clap_ok, ransac_ok))[0] == verdict
+def test_3d_rule(clap_ok, ransac_ok, n, verdict):
+    assert _judge_3d(_numbers_3d(clap_ok, ransac_ok, n=n))[0] == verdict
 
 
-@pytest.mark.parametrize(("sre", "verdict"), [(1.1, "reproduced"), (2.0, "not reproduced")])
-def test_similar_accuracy_rule(sre, verdict):
-    n = {"median_sre": {"CLAP": sre, "RANSAC": 1.0},
-         "median_inlier_ratio": {"CLAP": 0.8, "RANSAC": 0.8}, "pairs": 11}
-    assert _judge_real({"stitching_real": {"numbers": n}})[0] == verdict
+def test_3d_rules_without_high_ratios_say_so():
+    outputs = _numbers_3d(0.9, 0.9, ratios=("0.00", "0.40"))
+    assert _judge_3d(outputs)[0] == "data unavailable"
+    assert _judge_3d_spurious(outputs)[0] == "data unavailable"
+
+
+@pytest.mark.parametrize(("clap_gross", "ransac_gross", "verdict"), [
+    (0.0, 0.40, "reproduced"), (0.0, 0.02, "partly reproduced"), (0.0, 0.0, "not reproduced"),
+    (0.40, 0.0, "not reproduced")])
+def test_3d_spurious_rule(clap_gross, ransac_gross, verdict):
+    outputs = _numbers_3d(0.9, 0.9, clap_gross, ransac_gross)
+    assert _judge_3d_spurious(outputs)[0] == verdict
+
+
+def test_settings_combine():
+    assert _combine(["reproduced", "reproduced"]) == "reproduced"
+    assert _combine(["partly reproduced", "not reproduced"]) == "not reproduced"
+    assert _combine(["reproduced", "not reproduced"]) == "partly reproduced"
+
+
+def test_rates_differ_needs_margin_and_evidence():
+    assert rates_differ(0.5, 1000, 0.47, 1000) == 0      # below the margin
+    assert rates_differ(0.9, 10, 0.7, 10) == 0           # within the noise of 10 trials
+    assert rates_differ(0.9, 400, 0.7, 400) == 1
+    assert rates_differ(0.7, 400, 0.9, 400) == -1
+
+
+def _lie_rows(pairs):
+    return [{"pair": f"p{i}", "method": m, "lie": v, "recall": r, "inlier_ratio": 0.1}
+            for i, d in enumerate(pairs) for m, (v, r) in d.items()]
+
+
+@pytest.mark.parametrize(("pairs", "verdict"), [
+    # CLAP closer by more than 10 % on 3 of 4 pairs, no breakdown
+    ([{"CLAP": (1.0, 0), "RANSAC": (2.0, 0)}] * 3 + [{"CLAP": (1.0, 0), "RANSAC": (1.0, 0)}],
+     "reproduced"),
+    # closer by 1 % only: ties, not wins
+    ([{"CLAP": (1.0, 0), "RANSAC": (1.01, 0)}] * 4, "not reproduced"),
+    # closer more often, but one breakdown RANSAC does not have
+    ([{"CLAP": (1.0, 0), "RANSAC": (2.0, 0)}] * 3 + [{"CLAP": (500.0, 0), "RANSAC": (1.0, 0)}],
+     "not reproduced"),
+    # a failed RANSAC (None) counts against RANSAC, not CLAP
+    ([{"CLAP": (1.0, 0), "RANSAC": (None, 0)}] * 2, "reproduced"),
+])
+def test_closer_rule(pairs, verdict):
+    outputs = {"homography_synthetic": {"tables": {"lie": _lie_rows(pairs)}, "data": "s: x"}}
+    assert _judge_closer(outputs)[0] == verdict
+
+
+def test_evd_rule_counts_pairs():
+    better = {"CLAP": (1.0, 0.9), "RANSAC": (5.0, 0.3)}
+    worse = {"CLAP": (5.0, 0.1), "RANSAC": (1.0, 0.5)}
+    rows = _lie_rows([better, better, worse])
+    assert _judge_evd({"homography_evd": {"tables": {"lie": rows}}})[0] == "reproduced"
+    rows = _lie_rows([worse, worse, better])
+    assert _judge_evd({"homography_evd": {"tables": {"lie": rows}}})[0] == "not reproduced"
+
+
+def _sre_rows(pairs):
+    return [{"pair": f"p{i}", "method": m, "sre_common_px": e, "inlier_ratio": q}
+            for i, d in enumerate(pairs) for m, (e, q) in d.items()]
+
+
+@pytest.mark.parametrize(("clap", "verdict"), [
+    ((0.55, 0.80), "reproduced"),        # within 1.25x and 0.05
+    ((1.5, 0.80), "not reproduced"),     # three times the error
+    ((0.5, 0.60), "not reproduced"),     # far fewer inliers
+])
+def test_similar_accuracy_rule(clap, verdict):
+    rows = _sre_rows([{"CLAP": clap, "RANSAC": (0.5, 0.8)}] * 5)
+    n = {"median_sre_common": {"CLAP": clap[0], "RANSAC": 0.5},
+         "median_inlier_ratio": {"CLAP": clap[1], "RANSAC": 0.8}}
+    outputs = {"stitching_real": {"tables": {"sre": rows}, "numbers": n}}
+    assert _judge_real(outputs)[0] == verdict
+
+
+def test_2d_rules():
+    def numbers(clap_ok, ransac_ok):
+        n = {}
+        for i, rate in enumerate(("0.00", "0.30", "0.60")):
+            for m, ok in (("clap", clap_ok[i]), ("ransac", ransac_ok[i]), ("hough", 0.5)):
+                n[f"{m}@{rate}"] = {"ok": ok, "n": 300, "gross": 0.0, "median_cm": 3.0}
+        n["symmetry"] = {"frames": 10, "pose_and_mirror_tied": 0.9}
+        return {"localization2d": {"numbers": n}}
+
+    assert _judge_2d(numbers((0.9, 0.9, 0.9), (0.9, 0.9, 0.9)))[0] == "reproduced"
+    assert _judge_2d(numbers((0.9, 0.9, 0.6), (0.9, 0.9, 0.9)))[0] == "not reproduced"
+    assert _judge_2d(numbers((0.9, 0.9, 0.6), (0.9, 0.9, 0.5)))[0] == "partly reproduced"
+    assert _judge_symmetry(numbers((0.9,) * 3, (0.9,) * 3))[0] == "reproduced"
+
+
+def test_cli_exit_status_2_for_missing_data_and_no_scheduler(tmp_path, capsys, monkeypatch):
+    monkeypatch.setenv("CLAP_UNIFIED_DATA", str(tmp_path / "no_mirror"))
+    monkeypatch.setenv("CLAP_UNIFIED_CACHE", str(tmp_path / "no_cache"))
+    monkeypatch.setattr("clap_unified.imaging.datasets.sources.TIMEOUT", 2.0)
+    assert main(["reproduce", "--out", str(tmp_path / "o"), "--only", "homography_evd",
+                 "--no-progress"]) == 2
+    assert "--allow-missing" in capsys.readouterr().err
+    for address in ("garbage", "tcp://127.0.0.1:9"):
+        assert main(["reproduce", "--out", str(tmp_path / "o"), "--scheduler", address]) == 2
+        err = capsys.readouterr().err.strip().splitlines()
+        assert len(err) == 1 and "--scheduler" in err[0]
 
 
 def test_cli_refuses_zero_jobs_and_an_unwritable_out(tmp_path, capsys):

@@ -26,10 +26,11 @@ import tempfile
 
 import numpy as np
 
-from .registry import experiment, progress
+from .progress import progress
+from .registry import experiment, finite_or_none
 
-#: label -> (estimator, uses match quality), as in
-#: :data:`~clap_unified.imaging.evaluation.EVALUATED`.
+#: label -> (estimator, uses match quality), the format of
+#: :data:`~clap_unified.imaging.evaluation.EVALUATED` with shorter labels.
 METHODS = {"CLAP": ("clap", False), "RANSAC": ("ransac", False),
            "MAGSAC++": ("magsac", False)}
 COLORS = {"CLAP": "C3", "RANSAC": "C0", "MAGSAC++": "C2", "CLAP ordered": "C1"}
@@ -37,16 +38,11 @@ COLORS = {"CLAP": "C3", "RANSAC": "C0", "MAGSAC++": "C2", "CLAP ordered": "C1"}
 THRESHOLD = 3.0
 
 
-def _clean(value):
-    """JSON-safe float: NaN and inf become None."""
-    value = float(value)
-    return value if np.isfinite(value) else None
-
-
 def _scored_rows(pair_name, scene, rows) -> list[dict]:
-    return [{"pair": pair_name, "scene": scene, "method": r["method"], "lie": _clean(r["lie"]),
-             "corner_px": _clean(r["corner"]), "inliers": int(r["inliers"]),
-             "recall": _clean(r["recall"]), "success": bool(r["success"])} for r in rows]
+    return [{"pair": pair_name, "scene": scene, "method": r["method"],
+             "lie": finite_or_none(r["lie"]), "corner_px": finite_or_none(r["corner"]),
+             "inliers": int(r["inliers"]), "recall": finite_or_none(r["recall"]),
+             "success": bool(r["success"])} for r in rows]
 
 
 def _thumbnail(left, right, H, width: int = 360) -> str | None:
@@ -95,23 +91,41 @@ def _paired(rows, a="CLAP", b="RANSAC", key="lie") -> dict:
 
 
 # ------------------------------------------------------------------ S01-S12
-def _lie_over_sets(sets, seed: int, desc: str, size=None):
-    """Lie distances of every method on every ground-truth pair of ``sets``, and mosaics."""
+def _lie_over_sets(sets, seed: int, desc: str, size=None, seeds: int = 1):
+    """Lie distances of every method on every ground-truth pair of ``sets``, and mosaics.
+
+    With ``seeds > 1`` CLAP and RANSAC also run with ``seeds - 1`` more seeds
+    per pair (table ``stability``): the spread of their Lie distances over
+    seeds measures how stable each estimate is.
+    """
+    from ..imaging.evaluation import vpg_pair_matches
+
+    pairs = [pm for s in sets for pm in vpg_pair_matches(s) if pm.truth is not None]
+    return _lie_over_pairs(pairs, seed, desc, size=size, seeds=seeds)
+
+
+def _lie_over_pairs(pairs, seed: int, desc: str, size=None, seeds: int = 1, images=True):
     from ..imaging.estimate import estimate_homography
-    from ..imaging.evaluation import evaluate_pair, vpg_pair_matches
+    from ..imaging.evaluation import evaluate_pair
     from ..imaging.features import read_image
 
-    rows, thumbs = [], {}
-    pairs = [pm for s in sets for pm in vpg_pair_matches(s) if pm.truth is not None]
+    rows, stability, thumbs = [], [], {}
+    randomized = {k: v for k, v in METHODS.items() if v[0] in ("clap", "ransac")}
     for k, pm in enumerate(progress(pairs, desc)):
-        rows += _scored_rows(pm.name, pm.scene,
-                             evaluate_pair(pm, size=size, methods=METHODS, seed=seed + k))
-        if pm.scene not in thumbs:
+        first = evaluate_pair(pm, size=size, methods=METHODS, seed=seed + k)
+        rows += _scored_rows(pm.name, pm.scene, first)
+        for j in range(seeds if seeds > 1 else 0):
+            again = first if j == 0 else evaluate_pair(
+                pm, size=size, methods=randomized, seed=seed + k + 100_003 * j)
+            stability += [{"pair": pm.name, "scene": pm.scene, "method": r["method"],
+                           "seed_index": j, "lie": finite_or_none(r["lie"])}
+                          for r in again if r["method"] in randomized]
+        if images and pm.scene not in thumbs:
             res = estimate_homography(pm.input.matches, "clap", rng=seed + k)
             if res.success:
                 thumbs[pm.scene] = _thumbnail(read_image(pm.input.image_a),
                                               read_image(pm.input.image_b), res.model)
-    return rows, thumbs
+    return rows, stability, thumbs
 
 
 def _lie_numbers(rows) -> dict:
@@ -125,11 +139,12 @@ def run_homography_synthetic(params: dict, seed: int) -> dict:
     with tempfile.TemporaryDirectory() as tmp:
         sets = load_synthetic_vpg(tmp, rng=np.random.default_rng([seed, 0]),
                                   images_per_set=params["images_per_set"])
-        rows, thumbs = _lie_over_sets(sets, seed, "homography_synthetic", size=(640, 480))
+        rows, stability, thumbs = _lie_over_sets(sets, seed, "homography_synthetic",
+                                                 size=(640, 480), seeds=params["seeds"])
     return {"data": "synthetic VPG-layout sets (substitute for VPG S01-S12): scikit-image "
                     "photographs and textures, pure-rotation cameras, exact ground truth, "
                     "SIFT matches as input",
-            "tables": {"lie": rows}, "numbers": _lie_numbers(rows),
+            "tables": {"lie": rows, "stability": stability}, "numbers": _lie_numbers(rows),
             "artifacts": {"mosaics": thumbs}}
 
 
@@ -139,56 +154,62 @@ def run_homography_vpg(params: dict, seed: int) -> dict:
     root = vpg_root(download=False)
     names = [n for n in list_vpg_sets(root) if int(n[1:]) <= 12][: params.get("sets")]
     sets = [load_vpg_set(root / n) for n in names]
-    rows, thumbs = _lie_over_sets(sets, seed, "homography_vpg")
+    rows, stability, thumbs = _lie_over_sets(sets, seed, "homography_vpg",
+                                             seeds=params["seeds"])
     return {"data": "VPG S01-S12: Chen et al. 2020; ground-truth correspondences score, "
                     "SIFT matches are the input",
-            "tables": {"lie": rows}, "numbers": _lie_numbers(rows),
+            "tables": {"lie": rows, "stability": stability}, "numbers": _lie_numbers(rows),
             "artifacts": {"mosaics": thumbs}}
 
 
 def figures_lie(output: dict, prefix: str) -> dict:
+    """Lie-distance histograms (linear, log) and per-scene bars, as the paper's figures."""
     import matplotlib.pyplot as plt
 
     rows = output["tables"]["lie"]
     labels = list(dict.fromkeys(r["method"] for r in rows))
     source = output["data"].split(":")[0]
-    cap = 1e3
+    vals = {m: np.array([r["lie"] if r["lie"] is not None else np.nan
+                         for r in rows if r["method"] == m]) for m in labels}
+    finite = np.concatenate([v[np.isfinite(v)] for v in vals.values()])
     figs = {}
     for scale in ("linear", "log"):
         fig, ax = plt.subplots(figsize=(6.0, 3.6))
-        vals = {m: np.array([min(r["lie"], cap) if r["lie"] is not None else cap
-                             for r in rows if r["method"] == m]) for m in labels}
         if scale == "linear":
-            hi = max(np.percentile(np.concatenate(list(vals.values())), 90), 1e-3)
+            hi = max(float(np.percentile(finite, 90)) if len(finite) else 1.0, 1e-3)
             bins = np.linspace(0, hi, 30)
-            data = {m: np.clip(v, 0, hi) for m, v in vals.items()}
+            data = {m: np.clip(v[np.isfinite(v)], 0, hi) for m, v in vals.items()}
+            xlabel = "Lie distance to ground truth (clipped at the 90th percentile)"
         else:
             eps = 1e-4
-            bins = np.geomspace(eps, cap * 1.01, 40)
-            data = {m: v + eps for m, v in vals.items()}
+            top = max(float(finite.max()) if len(finite) else 1.0, 1.0) * 1.5
+            bins = np.geomspace(eps, top, 40)
+            data = {m: v[np.isfinite(v)] + eps for m, v in vals.items()}
             ax.set_xscale("log")
+            xlabel = "Lie distance to ground truth + 1e-4 (log scale)"
         for m in labels:
+            failed = int(np.sum(~np.isfinite(vals[m])))
             ax.hist(data[m], bins=bins, histtype="step", lw=1.6, color=COLORS.get(m),
-                    label=m)
-        ax.set_xlabel("Lie distance to ground truth" +
-                      (" (clipped at the 90th percentile)" if scale == "linear" else
-                       " (log scale, failures at 1e3)"))
+                    label=m + (f" ({failed} failed)" if failed else ""))
+        ax.set_xlabel(xlabel)
         ax.set_ylabel("pairs")
         ax.legend(fontsize=8)
         ax.set_title(f"Lie distance, {scale} scale ({source})", fontsize=9)
         fig.tight_layout()
         figs[f"{prefix}_lie_hist_{scale}"] = fig
     scenes = list(dict.fromkeys(r["scene"] for r in rows))
-    fig, ax = plt.subplots(figsize=(max(6.0, 0.5 * len(scenes) * len(labels)), 3.6))
-    w = 0.8 / len(labels)
+    fig, ax = plt.subplots(figsize=(6.5, min(9.0, 1.2 + 0.3 * len(scenes) * len(labels) ** 0.5)))
+    h = 0.8 / len(labels)
     for j, m in enumerate(labels):
-        mean = [np.mean([min(r["lie"], cap) if r["lie"] is not None else cap
-                         for r in rows if r["scene"] == s and r["method"] == m]) for s in scenes]
-        ax.bar(np.arange(len(scenes)) + (j - (len(labels) - 1) / 2) * w, mean, w,
-               color=COLORS.get(m), label=m)
-    ax.set_yscale("log")
-    ax.set_xticks(np.arange(len(scenes)), scenes, rotation=45, fontsize=7)
-    ax.set_ylabel("mean Lie distance per scene")
+        mean = [np.mean([r["lie"] if r["lie"] is not None else np.inf
+                         for r in rows if r["scene"] == sc and r["method"] == m])
+                for sc in scenes]
+        ax.barh(np.arange(len(scenes)) + (j - (len(labels) - 1) / 2) * h,
+                np.minimum(mean, 1e6), h, color=COLORS.get(m), label=m)
+    ax.set_xscale("log")
+    ax.set_yticks(np.arange(len(scenes)), scenes, fontsize=7)
+    ax.invert_yaxis()
+    ax.set_xlabel("mean Lie distance per scene (log scale)")
     ax.legend(fontsize=8)
     ax.set_title(f"Per-scene Lie distance ({source})", fontsize=9)
     fig.tight_layout()
@@ -219,13 +240,14 @@ def _mosaic_overview(mosaics: dict, title: str):
 
 experiment("homography_synthetic",
            "Image stitching S01-S12 (substitute): Lie distance to the ground truth",
-           quick={"images_per_set": 2}, full={"images_per_set": 3},
+           quick={"images_per_set": 2, "seeds": 3}, full={"images_per_set": 3, "seeds": 5},
            datasets=(), figures=lambda out: figures_lie(out, "synthetic"),
            expected_seconds=(15.0, 20.0))(run_homography_synthetic)
 
 
 experiment("homography_vpg", "Image stitching S01-S12 on the real VPG data, when it is here",
-           quick={"sets": 4}, full={"sets": None}, datasets=("vpg",), optional=True,
+           quick={"sets": 4, "seeds": 3}, full={"sets": None, "seeds": 5}, datasets=("vpg",),
+           optional=True,
            figures=lambda out: figures_lie(out, "vpg"),
            expected_seconds=(20.0, 60.0))(run_homography_vpg)
 
@@ -233,22 +255,25 @@ experiment("homography_vpg", "Image stitching S01-S12 on the real VPG data, when
 # -------------------------------------------------------------- homogr, EVD
 def run_homography_homogr(params: dict, seed: int) -> dict:
     from ..imaging.datasets import homogr_names, load_homogr
-    from ..imaging.evaluation import evaluate_pair
 
-    rows = []
-    names = homogr_names()[: params.get("pairs")]
-    for k, name in enumerate(progress(names, "homography_homogr")):
-        pair = load_homogr(name, images=False)
-        rows += _scored_rows(name, name, evaluate_pair(pair, methods=METHODS, seed=seed + k))
+    pairs = [_Named(load_homogr(n, images=False), n) for n in homogr_names()[: params["pairs"]]]
+    rows, stability, _ = _lie_over_pairs(pairs, seed, "homography_homogr",
+                                         seeds=params["seeds"], images=False)
     return {"data": "homogr: Lebeda, Matas, Chum; 16 real planar pairs, ground-truth "
                     "homography; the label-0 tentative matches are the input",
-            "tables": {"lie": rows},
-            "numbers": {"median_lie": _medians(rows, "lie"), "paired": _paired(rows),
-                        "paired_magsac": _paired(rows, "CLAP", "MAGSAC++")}}
+            "tables": {"lie": rows, "stability": stability}, "numbers": _lie_numbers(rows)}
+
+
+class _Named:
+    """A loader's pair with the ``name`` / ``scene`` the tables use."""
+
+    def __init__(self, pair, name):
+        self.input, self.truth, self.name, self.scene = pair.input, pair.truth, name, name
 
 
 experiment("homography_homogr", "homogr: Lie distance to the ground truth (real planar pairs)",
-           quick={"pairs": None}, full={"pairs": None}, datasets=("homography",),
+           quick={"pairs": None, "seeds": 3}, full={"pairs": None, "seeds": 5},
+           datasets=("homography",),
            figures=lambda out: figures_lie(out, "homogr"),
            expected_seconds=(2.0, 2.0))(run_homography_homogr)
 
@@ -329,34 +354,44 @@ def run_stitching_real(params: dict, seed: int) -> dict:
         return cv2.resize(img, (round(img.shape[1] * s), round(img.shape[0] * s)),
                           interpolation=cv2.INTER_AREA)
 
-    jobs = [(name, i, j) for name in stitching_set_names()
-            for i, j in load_stitching_set(name).input.pairs[: params["pairs_per_set"]]]
+    sets = {name: load_stitching_set(name).input for name in stitching_set_names()}
+    jobs = [(name, i, j) for name, inp in sets.items() for i, j in
+            inp.pairs[: params["pairs_per_set"]]]
     rows, thumbs = [], {}
     for k, (name, i, j) in enumerate(progress(jobs, "stitching_real")):
-        images = load_stitching_set(name).input.images
-        a, b = small(read_image(images[i])), small(read_image(images[j]))
+        a, b = small(read_image(sets[name].images[i])), small(read_image(sets[name].images[j]))
         m, _ = sift_matches(a, b)
+        errors = {}
         for label, (method, _) in METHODS.items():
             kw = {"rng": seed + k} if method in ("clap", "ransac") else {}
             res = estimate_homography(m, method, **kw) if len(m) >= 8 else None
-            if res is not None and res.success:
-                e = symmetric_reprojection_error(res.model, m)
-                inl = e < THRESHOLD
-                sre = float(np.sqrt(np.mean(e[inl] ** 2))) if inl.any() else None
-                ratio = float(inl.mean())
-            else:
-                sre, ratio = None, 0.0
-            rows.append({"set": name, "pair": f"{name} {i + 1}-{j + 1}", "method": label,
-                         "matches": len(m), "sre_px": sre, "inlier_ratio": ratio,
-                         "success": bool(res is not None and res.success)})
-            if label == "CLAP" and name not in thumbs and res is not None and res.success:
+            errors[label] = (symmetric_reprojection_error(res.model, m)
+                             if res is not None and res.success else None)
+            if label == "CLAP" and name not in thumbs and errors[label] is not None:
                 thumbs[name] = _thumbnail(a, b, res.model)
+        # the matches every successful method takes as inliers: one yardstick for all
+        found = [e for e in errors.values() if e is not None]
+        common = np.logical_and.reduce([e < THRESHOLD for e in found]) if found else None
+        for label, e in errors.items():
+            row = {"set": name, "pair": f"{name} {i + 1}-{j + 1}", "method": label,
+                   "matches": len(m), "success": e is not None, "sre_px": None,
+                   "sre_common_px": None, "common": 0, "inlier_ratio": 0.0}
+            if e is not None:
+                inl = e < THRESHOLD
+                row.update(inlier_ratio=float(inl.mean()), common=int(common.sum()),
+                           sre_px=_rms(e[inl]), sre_common_px=_rms(e[common]))
+            rows.append(row)
     numbers = {"median_sre": _medians(rows, "sre_px"),
+               "median_sre_common": _medians(rows, "sre_common_px"),
                "median_inlier_ratio": _medians(rows, "inlier_ratio"),
                "pairs": len(jobs)}
     return {"data": "eleven real panorama sets (substitute for VPG S13-S36): parallax, no "
                     "ground truth (stitching_sets); SIFT matches as input",
             "tables": {"sre": rows}, "numbers": numbers, "artifacts": {"mosaics": thumbs}}
+
+
+def _rms(e) -> float | None:
+    return float(np.sqrt(np.mean(np.square(e)))) if len(e) else None
 
 
 def figures_stitching_real(output: dict) -> dict:
@@ -367,14 +402,15 @@ def figures_stitching_real(output: dict) -> dict:
     source = output["data"].split(":")[0]
     fig, (a, b) = plt.subplots(1, 2, figsize=(10, 3.6))
     for m in labels:
-        v = np.sort([r["sre_px"] if r["sre_px"] is not None else np.inf
+        v = np.sort([r["sre_common_px"] if r["sre_common_px"] is not None else np.inf
                      for r in rows if r["method"] == m])
         a.step(v, np.arange(1, len(v) + 1) / len(v), where="post", color=COLORS.get(m),
                label=m)
         q = np.sort([r["inlier_ratio"] for r in rows if r["method"] == m])
         b.step(q, np.arange(1, len(q) + 1) / len(q), where="post", color=COLORS.get(m),
                label=m)
-    a.set_xlabel("RMS symmetric reprojection error on own inliers [px]")
+    a.set_xlabel("RMS symmetric reprojection error [px], on the matches\n"
+                 "every method takes as inliers")
     a.set_ylabel("fraction of pairs")
     b.set_xlabel("inlier ratio (3 px)")
     a.legend(fontsize=8)

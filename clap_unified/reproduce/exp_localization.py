@@ -14,7 +14,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from .registry import experiment, progress
+from .progress import progress
+from .registry import experiment, finite_or_none
 
 
 def _rates(errors, ok_within, gross_beyond) -> dict:
@@ -30,10 +31,6 @@ def _errors(rows, **match) -> list:
     return [(r["e_t_m"] if r["e_t_m"] is not None else np.inf,
              r["e_r_deg"] if r["e_r_deg"] is not None else np.inf)
             for r in rows if all(r[k] == v for k, v in match.items())]
-
-
-def _inf_to_none(x: float):
-    return None if not np.isfinite(x) else float(x)
 
 
 # ------------------------------------------------------------------------- 3D
@@ -71,7 +68,7 @@ def run_localization3d(params: dict, seed: int) -> dict:
                 e_t, e_r = pose_errors(r.model, det.truth.pose) if r else (np.inf, np.inf)
                 rows.append({"setting": setting, "outlier_ratio": o, "frame": f,
                              "method": method, "detections": len(inp),
-                             "e_t_m": _inf_to_none(e_t), "e_r_deg": _inf_to_none(e_r)})
+                             "e_t_m": finite_or_none(e_t), "e_r_deg": finite_or_none(e_r)})
     numbers = {}
     for setting in ("typed", "correspondences"):
         for o in params["ratios"]:
@@ -172,8 +169,10 @@ def run_localization2d(params: dict, seed: int) -> dict:
                          if r.success else (None, None))
                     rows.append({"false_positive_rate": rate, "frame": done - 1,
                                  "method": method, "e_t_m": e[0], "e_r_deg": e[1]})
-                    if method == "clap" and rate == 0.0 and r.success:
-                        sym_rows.append(_symmetry_row(r, truth, mirror, error))
+                    if method == "clap" and rate == 0.0:  # a failed frame counts as a miss
+                        sym_rows.append(_symmetry_row(r, truth, mirror, error) if r.success
+                                        else {"clusters": 0, "best_support": 0,
+                                              "second_support": 0, "pose_and_mirror": False})
     numbers = {}
     for rate in params["false_positive_rates"]:
         for method in ("clap", "ransac", "hough"):
@@ -184,7 +183,8 @@ def run_localization2d(params: dict, seed: int) -> dict:
                            "pose_and_mirror_tied": float(np.mean(both)) if both else 0.0}
     return {"data": "simulated detections on the AdultSize field (substitute for the "
                     "predecessor's robot logs, which are not public): camera model, misses, "
-                    "false detections",
+                    "false detections; random poses, keeping frames with at least 3 true "
+                    "detections (scene selection by the simulator, not seen by the estimators)",
             "tables": {"errors": rows, "symmetry": sym_rows}, "numbers": numbers}
 
 

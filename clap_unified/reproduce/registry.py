@@ -21,9 +21,11 @@ from __future__ import annotations
 
 import hashlib
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
-__all__ = ["EXPERIMENTS", "Experiment", "experiment", "progress", "seed_for"]
+import numpy as np
+
+__all__ = ["EXPERIMENTS", "Experiment", "experiment", "finite_or_none", "seed_for"]
 
 
 @dataclass(frozen=True)
@@ -46,6 +48,8 @@ class Experiment:
         ``figures(output) -> {name: matplotlib Figure}``.
     expected_seconds : (float, float)
         Rough one-core running time of the quick and the full version.
+    version : int
+        Bumped when the meaning of the output changes (part of the cache key).
     optional : bool
         The paper's own data that cannot always be had (VPG): when its data set
         is missing the experiment is skipped without stopping the run, and the
@@ -64,6 +68,7 @@ class Experiment:
     optional: bool = False
 
     def params(self, quick: bool) -> dict:
+        """A copy of the quick or the full parameters."""
         return dict(self.quick if quick else self.full)
 
 
@@ -97,20 +102,15 @@ def seed_for(name: str) -> int:
     return int.from_bytes(hashlib.sha256(name.encode()).digest()[:4], "little")
 
 
-@dataclass
-class _Bar:
-    position: int = 0
-    enabled: bool = True
-    extra: dict = field(default_factory=dict)
+def finite_or_none(x):
+    """A JSON-safe number: NaN and infinities become None (JSON null).
 
-
-#: Set by the runner in each worker: the progress-bar line of the running experiment.
-_BAR = _Bar()
-
-
-def progress(iterable, desc: str, total: int | None = None):
-    """``tqdm`` over ``iterable`` for the running experiment (silent when not a terminal)."""
-    from tqdm.auto import tqdm
-
-    return tqdm(iterable, desc=desc, total=total, position=_BAR.position, leave=False,
-                disable=None if _BAR.enabled else True, dynamic_ncols=True)
+    Examples
+    --------
+    >>> finite_or_none(1.5), finite_or_none(float("inf")), finite_or_none(None)
+    (1.5, None, None)
+    """
+    if x is None:
+        return None
+    x = float(x)
+    return x if np.isfinite(x) else None

@@ -30,10 +30,10 @@ from pathlib import Path
 
 import numpy as np
 
-from . import registry
+from . import progress as _progress
 from .claims import evaluate_claims
 from .data import missing_datasets
-from .registry import EXPERIMENTS, seed_for
+from .registry import EXPERIMENTS, finite_or_none, seed_for
 
 __all__ = ["MissingDataError", "Reproduction", "claims_markdown", "reproduce", "run_experiment",
            "write_atomic"]
@@ -77,6 +77,9 @@ def write_atomic(path, data) -> None:
     path.parent.mkdir(parents=True, exist_ok=True)
     fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".part")
     try:
+        umask = os.umask(0)
+        os.umask(umask)
+        os.fchmod(fd, 0o666 & ~umask)  # as open() would, not mkstemp's owner-only 0600
         with os.fdopen(fd, "wb") as f:
             f.write(data.encode() if isinstance(data, str) else data)
         os.replace(tmp, path)
@@ -85,13 +88,14 @@ def write_atomic(path, data) -> None:
         raise
 
 
-def run_experiment(name: str, quick: bool, position: int = 0, bars: bool = True) -> dict:
+def run_experiment(name: str, quick: bool, position: int = 0, show_bars: bool = True) -> dict:
     """Run one experiment with the seed of its name; ``{"name", "output", "seconds"}``."""
-    registry._BAR.position, registry._BAR.enabled = position, bars
+    _progress.configure(position, show_bars)
     ex = EXPERIMENTS[name]
     t0 = time.perf_counter()
     output = _json_data(ex.run(ex.params(quick), seed_for(name)))
-    return {"name": name, "output": output, "seconds": time.perf_counter() - t0}
+    return {"name": name, "output": output, "seconds": time.perf_counter() - t0,
+            "code": code_fingerprint()}
 
 
 def _json_data(obj):
@@ -102,7 +106,7 @@ def _json_data(obj):
         if isinstance(x, list | tuple):
             return [clean(v) for v in x]
         if isinstance(x, float | np.floating):
-            return float(x) if np.isfinite(x) else None
+            return finite_or_none(x)
         if isinstance(x, np.integer | np.bool_):
             return x.item()
         return x
@@ -139,7 +143,12 @@ def _load_cached(path: Path, key: dict):
         doc = json.loads(path.read_text())
     except (OSError, ValueError):
         return None
-    return doc["output"] if isinstance(doc, dict) and doc.get("key") == key else None
+    if not (isinstance(doc, dict) and doc.get("key") == key):
+        return None
+    out = doc.get("output")
+    ok = isinstance(out, dict) and isinstance(out.get("data"), str) and \
+        isinstance(out.get("numbers"), dict) and isinstance(out.get("tables", {}), dict)
+    return out if ok else None
 
 
 def _check_out(out) -> Path:
@@ -155,13 +164,47 @@ def _check_out(out) -> Path:
 
 
 def _client(address: str, timeout: float = 5.0):
-    from distributed import Client
+    """A Dask client of the scheduler at ``address``, or an ``OSError`` within ``timeout`` s.
 
+    The address must be ``[tcp://]host:port``; the port is tried first (a
+    refused or silent port fails fast), then the client connects in a worker
+    thread with a hard deadline, so a listener that is not a Dask scheduler
+    cannot hang the command.
+    """
+    import concurrent.futures
+    import socket
+    from urllib.parse import urlsplit
+
+    def fail(why):
+        return OSError(f"--scheduler {address}: {why}")
+
+    parts = urlsplit(address if "://" in address else f"tcp://{address}")
     try:
+        host, port = parts.hostname, parts.port
+    except ValueError:
+        host = port = None
+    if parts.scheme not in ("tcp", "tls") or not host or not port:
+        raise fail("expected an address like tcp://host:8786") from None
+    try:
+        socket.create_connection((host, port), timeout=timeout).close()
+    except OSError as exc:
+        raise fail(f"nothing answers there ({exc.strerror or exc})") from None
+
+    def connect():
+        from distributed import Client
+
         return Client(address, timeout=f"{timeout}s", set_as_default=False)
-    except (OSError, TimeoutError, ValueError) as exc:
-        raise OSError(f"--scheduler {address}: cannot reach a Dask scheduler within "
-                      f"{timeout:g} s ({exc})") from None
+
+    pool = concurrent.futures.ThreadPoolExecutor(1)
+    future = pool.submit(connect)
+    pool.shutdown(wait=False)
+    try:
+        return future.result(timeout=2 * timeout)
+    except concurrent.futures.TimeoutError:
+        future.add_done_callback(lambda f: f.exception() or f.result().close())
+        raise fail(f"no Dask scheduler answered within {2 * timeout:g} s") from None
+    except Exception as exc:  # a listener that is not a Dask scheduler: any error
+        raise fail(f"not a Dask scheduler ({type(exc).__name__}: {exc})") from None
 
 
 def _execute(todo, quick, jobs, scheduler, bars):
@@ -259,6 +302,13 @@ def reproduce(out, *, quick: bool = False, jobs: int = 1, scheduler=None, force:
                                    f"claims 'data unavailable')")
         outputs, result = {}, Reproduction(out, [], skipped=skipped)
         todo = []
+        if only is not None:  # the other experiments' results come from the cache, if any
+            for n in EXPERIMENTS:
+                cached = None if n in names else _load_cached(
+                    out / "experiments" / f"{n}.json", _cache_key(n, quick))
+                if cached is not None:
+                    outputs[n] = cached
+                    result.reused.append(n)
         for n in names:
             if n in skipped:
                 continue
@@ -280,6 +330,10 @@ def reproduce(out, *, quick: bool = False, jobs: int = 1, scheduler=None, force:
         with bar:
             for res in _execute(todo, quick, jobs, client, progress):
                 n = res["name"]
+                if res["code"] != code_fingerprint():
+                    raise OSError(f"--scheduler: the workers run other code than this "
+                                  f"command (fingerprint {res['code']}, here "
+                                  f"{code_fingerprint()}); install the same clap_unified")
                 outputs[n] = res["output"]
                 timings[n] = res["seconds"]
                 write_atomic(out / "experiments" / f"{n}.json",
@@ -330,7 +384,9 @@ def claims_markdown(claims) -> str:
              "|---|---|---|---|"]
     for c in claims:
         data = "; ".join(d.split(":")[0] for d in c["data"]) or "-"
-        cells = [f"{c['claim']} *({c['section']})*", f"**{c['verdict']}**", c["measured"], data]
+        reading = f" Read as: {c['reading']}." if c.get("reading") else ""
+        cells = [f"{c['claim']} *({c['section']})*{reading}", f"**{c['verdict']}**",
+                 c["measured"], data]
         lines.append("| " + " | ".join(s.replace("|", "\\|").replace("\n", " ")
                                         for s in cells) + " |")
     return "\n".join(lines) + "\n"
@@ -342,20 +398,34 @@ def _write_report(out: Path, outputs: dict, claims: list, quick: bool) -> None:
     matplotlib.use("Agg", force=False)
     import matplotlib.pyplot as plt
 
-    for n, output in outputs.items():
+    written = set()
+
+    def write(path, data):
+        write_atomic(path, data)
+        written.add(path)
+
+    for n in sorted(outputs):
+        output = outputs[n]
         for t, rows in output.get("tables", {}).items():
-            write_atomic(out / "tables" / f"{n}_{t}.csv", _csv(rows))
+            write(out / "tables" / f"{n}_{t}.csv", _csv(rows))
         ex = EXPERIMENTS[n]
         if ex.figures is None:
             continue
         for fname, fig in ex.figures(output).items():
             fig.text(0.005, 0.005, "data: " + output["data"].split(":")[0]
                      + (" (quick run)" if quick else ""), fontsize=6, color="0.4")
-            for ext, meta in (("png", {"Software": None}), ("svg", {"Date": None})):
-                buf = io.BytesIO()
-                fig.savefig(buf, format=ext, dpi=110, metadata=meta)
-                write_atomic(out / "figures" / f"{fname}.{ext}", buf.getvalue())
+            # fixed SVG ids and no dates: the same figure gives the same bytes
+            with matplotlib.rc_context({"svg.hashsalt": "clap_unified"}):
+                for ext, meta in (("png", {"Software": None}), ("svg", {"Date": None})):
+                    buf = io.BytesIO()
+                    fig.savefig(buf, format=ext, dpi=110, metadata=meta)
+                    write(out / "figures" / f"{fname}.{ext}", buf.getvalue())
             plt.close(fig)
+    # files of an earlier run that this report does not hold would mix two runs
+    for folder, pattern in (("tables", "*.csv"), ("figures", "*.png"), ("figures", "*.svg")):
+        for stale in (out / folder).glob(pattern):
+            if stale not in written:
+                stale.unlink()
     write_atomic(out / "claims.json", _dumps({"mode": "quick" if quick else "full",
                                               "claims": claims}))
     write_atomic(out / "claims.md", "# Claims of the paper and what was measured\n\n"

@@ -1,13 +1,15 @@
 """Image datasets: manifests and loaders (nothing large is committed).
 
-* :mod:`.sources`: mirror / cache / public source lookup with sha256 checks;
 Every loader returns a frozen object whose ``input`` is what an estimator may
 see and whose ``truth`` is evaluation data (:mod:`clap_unified.datatypes`).
 
+* :mod:`.sources`: mirror / cache / public source lookup with sha256 checks;
 * :mod:`.homography_benchmarks`: homogr and EVD pairs with ground truth;
 * :mod:`.vpg`: the VPG stitching dataset layout;
 * :mod:`.synthetic_vpg`: a VPG-layout set from scikit-image photographs and
-  textures, pure-rotation cameras, exact ground truth.
+  textures, pure-rotation cameras, exact ground truth;
+* :mod:`.stitching_sets`: eleven real panorama sets with parallax and no
+  ground truth (the substitute for VPG's real-world sets S13-S36).
 """
 
 from .homography_benchmarks import (
@@ -20,10 +22,18 @@ from .homography_benchmarks import (
     load_homogr,
 )
 from .sources import fetch, load_manifest
+from .stitching_sets import (
+    PanoramaInput,
+    PanoramaSet,
+    PanoramaTruth,
+    load_stitching_set,
+    stitching_set_names,
+)
 from .synthetic_vpg import SCENES, load_synthetic_vpg, make_synthetic_vpg
 from .vpg import VPGInput, VPGSet, VPGTruth, list_vpg_sets, load_vpg_set, vpg_root
 
-__all__ = ["SCENES", "HomographyInput", "HomographyPair", "HomographyTruth", "VPGInput",
-           "VPGSet", "VPGTruth", "evd_names", "fetch", "homogr_names", "list_vpg_sets",
-           "load_evd", "load_homogr", "load_manifest", "load_synthetic_vpg", "load_vpg_set",
-           "make_synthetic_vpg", "vpg_root"]
+__all__ = ["SCENES", "HomographyInput", "HomographyPair", "HomographyTruth", "PanoramaInput",
+           "PanoramaSet", "PanoramaTruth", "VPGInput", "VPGSet", "VPGTruth", "evd_names",
+           "fetch", "homogr_names", "list_vpg_sets", "load_evd", "load_homogr",
+           "load_manifest", "load_stitching_set", "load_synthetic_vpg", "load_vpg_set",
+           "make_synthetic_vpg", "stitching_set_names", "vpg_root"]

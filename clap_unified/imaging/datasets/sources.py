@@ -3,8 +3,9 @@
 A dataset is described by a manifest ``data/<dataset>/manifest.json`` in the
 repository: ``base_url`` (public source), ``files`` (relative path ->
 sha256) and optionally ``remote`` (relative path -> path under ``base_url``
-where the public source lays files out differently). A file is looked up, in
-order, in
+where the public source lays files out differently; with ``"remote_complete":
+false`` a file without a ``remote`` entry has no known public location). A file
+is looked up, in order, in
 
 1. the mirror: ``$CLAP_UNIFIED_DATA/<mirror_dir>`` when that environment
    variable is set, else ``../shared/data/<mirror_dir>`` next to the
@@ -76,6 +77,18 @@ def _download(url: str, target: Path) -> None:
     tmp.replace(target)
 
 
+def _url(man: dict, relpath: str) -> str | None:
+    """Public URL of ``relpath``: ``base_url`` + its ``remote`` path; None when the
+    manifest says the file is in the mirror only (``"remote_complete": false`` and
+    no ``remote`` entry)."""
+    remote = man.get("remote", {})
+    if relpath in remote:
+        return man["base_url"] + remote[relpath]
+    if man.get("remote_complete", True):
+        return man["base_url"] + relpath
+    return None
+
+
 def fetch(dataset: str, relpath: str, *, download: bool = True) -> Path:
     """Path of a verified local copy of ``relpath`` of ``dataset``.
 
@@ -110,10 +123,13 @@ def fetch(dataset: str, relpath: str, *, download: bool = True) -> Path:
             if got != want:
                 raise ValueError(f"{p}: corrupt file (sha256 {got[:12]}..., expected "
                                  f"{want[:12]}...); delete it or restore it from "
-                                 f"{man['base_url']}{relpath}")
+                                 f"{_url(man, relpath) or man.get('source', man['base_url'])}")
             return p
-    url = man["base_url"] + man.get("remote", {}).get(relpath, relpath)
-    if download:
+    url = _url(man, relpath)
+    if url is None:
+        url = man.get("source", man["base_url"])
+        reason = "no public download location is known for this file; get it from the source"
+    elif download:
         try:
             _download(url, places[1])
         except OSError as exc:
