@@ -8,6 +8,7 @@ from clap_unified.localization import (
     Camera,
     load_field,
     localize2d,
+    random_frames,
     simulate_observations,
     visible_landmarks,
 )
@@ -34,15 +35,8 @@ def pose_error(T, truth):
 
 
 def scenes_with_false_positives(rate, n, seed, min_true=4):
-    rng = np.random.default_rng(seed)
-    out = []
-    while len(out) < n:
-        truth = SE2.from_xytheta(rng.uniform(-6.5, 6.5), rng.uniform(-4, 4),
-                                 rng.uniform(-np.pi, np.pi))
-        obs = simulate_observations(FIELD, truth, false_positive_rate=rate, rng=rng)
-        if np.count_nonzero(~obs.truth.is_false) >= min_true:
-            out.append((truth, obs))
-    return out
+    frames = random_frames(FIELD, n, false_positive_rate=rate, min_true=min_true, rng=seed)
+    return [(obs.truth.pose, obs) for obs in frames]
 
 
 # ----------------------------------------------------------------- simulator

@@ -29,6 +29,7 @@ from .observations import (
     ObservationInput,
     Observations,
     ObservationTruth,
+    random_frames,
     simulate_observations,
     visible_landmarks,
 )
@@ -73,6 +74,7 @@ __all__ = [
     "ObservationTruth",
     "field_landmarks",
     "load_field",
+    "random_frames",
     "simulate_observations",
     "visible_landmarks",
     *_LAZY,

@@ -23,12 +23,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .._validation import as_generator, check_fraction, check_positive
+from .._validation import as_generator, check_fraction, check_int, check_positive
 from ..datatypes import freeze_arrays, readonly
 from ..geometry.se2 import SE2
 from .field import LANDMARK_TYPES, Field
 
-__all__ = ["Camera", "Observations", "ObservationInput", "ObservationTruth",
+__all__ = ["Camera", "Observations", "ObservationInput", "ObservationTruth", "random_frames",
            "simulate_observations", "visible_landmarks", "FALSE_POSITIVE_KINDS"]
 
 FALSE_POSITIVE_KINDS = ("random", "wrong_type", "neighbour")
@@ -329,3 +329,60 @@ def _false(name, m, field, pose, camera, type_id, rng):
     local = _random_in_view(m, camera, rng)
     return (np.c_[rng.integers(0, n_types, m), local], np.full(m, "random", dtype=object),
             np.full((m, 2), np.nan))
+
+
+def random_frames(field: Field, n: int, *, false_positive_rate: float = 0.0,
+                  min_true: int = 3, max_draws: int = 100_000, rng=None,
+                  **options) -> list[Observations]:
+    """``n`` frames from uniformly random poses on the carpet, each seeing ``min_true`` landmarks.
+
+    Poses are drawn uniformly over the field of play, 0.5 m inside its lines
+    (x, then y, then any heading; one draw each); a frame in
+    which the robot sees fewer than ``min_true`` real landmarks is drawn again.
+    That choice is the experiment's (it reads the simulator's truth to pick
+    scenes), never an estimator's: each frame's ``input`` is all an estimator
+    gets, its ``truth.pose`` scores it.
+
+    Parameters
+    ----------
+    field : Field
+    n : int
+        Frames wanted.
+    false_positive_rate : float in [0, 1)
+    min_true : int
+        Real detections a kept frame must have.
+    max_draws : int
+        Cap on the poses drawn.
+    rng : None, int or numpy.random.Generator
+    **options
+        Passed to :func:`simulate_observations` (``camera``, ``miss_rate``, ...).
+
+    Raises
+    ------
+    ValueError
+        ``max_draws`` poses gave fewer than ``n`` frames.
+
+    Examples
+    --------
+    >>> from clap_unified.localization import load_field
+    >>> frames = random_frames(load_field("adult"), 3, false_positive_rate=0.2, rng=0)
+    >>> [int((~f.truth.is_false).sum()) >= 3 for f in frames]
+    [True, True, True]
+    """
+    n = check_int(n, "n", minimum=0)
+    rng = as_generator(rng)
+    half_x = field.dimensions["length"] / 2 - 0.5
+    half_y = field.dimensions["width"] / 2 - 0.5
+    out, draws = [], 0
+    while len(out) < n:
+        if draws >= max_draws:
+            raise ValueError(f"max_draws: {max_draws} poses gave only {len(out)} frames with "
+                             f"{min_true} real detections; lower min_true")
+        draws += 1
+        pose = SE2.from_xytheta(rng.uniform(-half_x, half_x), rng.uniform(-half_y, half_y),
+                                rng.uniform(-np.pi, np.pi))
+        obs = simulate_observations(field, pose, false_positive_rate=false_positive_rate,
+                                    rng=rng, **options)
+        if np.count_nonzero(~obs.truth.is_false) >= min_true:
+            out.append(obs)
+    return out

@@ -105,20 +105,32 @@ def _high_ratios(numbers, prefix):
                    if k.startswith(prefix) and float(k.split("@")[1]) > 0.5})
 
 
-def _no_high_ratios():
-    return "data unavailable", "no outlier ratio above 50 % was run", {}
+def _settings(n):
+    """Per 3D setting: label, key prefix, ratios above 50 %, CLAP's and RANSAC's numbers.
 
-
-def _judge_3d(outputs):
-    n = outputs["localization3d"]["numbers"]
-    verdicts, parts, table = [], [], {}
+    None when a setting has no ratio above 50 %.
+    """
+    out = []
     for setting, label in _SETTINGS_3D:
         p = f"{setting}:"
         high = _high_ratios(n, p)
         if not high:
-            return _no_high_ratios()
-        c = [n[f"{p}clap@{o}"] for o in high]
-        r = [n[f"{p}ransac@{o}"] for o in high]
+            return None
+        out.append((label, p, high, [n[f"{p}clap@{o}"] for o in high],
+                    [n[f"{p}ransac@{o}"] for o in high]))
+    return out
+
+
+_NO_HIGH_RATIOS = ("data unavailable", "no outlier ratio above 50 % was run", {})
+
+
+def _judge_3d(outputs):
+    n = outputs["localization3d"]["numbers"]
+    settings = _settings(n)
+    if settings is None:
+        return _NO_HIGH_RATIOS
+    verdicts, parts, table = [], [], {}
+    for label, p, high, c, r in settings:
         diff = [rates_differ(a["ok"], a["n"], b["ok"], b["n"]) for a, b in zip(c, r, strict=True)]
         robust = all(a["ok"] >= 0.8 for a in c)
         if all(d > 0 for d in diff) and robust:
@@ -131,36 +143,31 @@ def _judge_3d(outputs):
             f"{float(o):.0%} false CLAP {a['ok']:.2f} / RANSAC {b['ok']:.2f}"
             for o, a, b in zip(high, c, r, strict=True)))
         table.update(_rate_table(n, ("clap", "ransac"), high, p))
-    frames = n[f"typed:clap@{_high_ratios(n, 'typed:')[0]}"]["n"]
+    frames = settings[0][3][0]["n"]
     return _combine(verdicts), (f"share of {frames} frames per ratio within 5 cm and 1 deg; "
                                 + "; ".join(parts)), table
 
 
 def _judge_3d_spurious(outputs):
     n = outputs["localization3d"]["numbers"]
+    settings = _settings(n)
+    if settings is None:
+        return _NO_HIGH_RATIOS
     verdicts, parts, table = [], [], {}
-    for setting, label in _SETTINGS_3D:
-        p = f"{setting}:"
-        high = _high_ratios(n, p)
-        if not high:
-            return _no_high_ratios()
-        c = [n[f"{p}clap@{o}"] for o in high]
-        r = [n[f"{p}ransac@{o}"] for o in high]
+    for label, p, high, c, r in settings:
         # +1: RANSAC spurious more often than CLAP at that ratio
         diff = [rates_differ(b["gross"], b["n"], a["gross"], a["n"])
                 for a, b in zip(c, r, strict=True)]
-        if any(d > 0 for d in diff) and not any(d < 0 for d in diff):
-            verdicts.append("reproduced")
-        elif not any(d < 0 for d in diff) and any(b["gross"] > a["gross"]
-                                                 for a, b in zip(c, r, strict=True)):
-            verdicts.append("partly reproduced")
-        else:
-            verdicts.append("not reproduced")
+        higher = any(b["gross"] > a["gross"] for a, b in zip(c, r, strict=True))
+        verdicts.append("not reproduced" if any(d < 0 for d in diff) else
+                        "reproduced" if any(d > 0 for d in diff) else
+                        "partly reproduced" if higher else "not reproduced")
         parts.append(f"{label}: " + ", ".join(
             f"{float(o):.0%} false CLAP {a['gross']:.2f} / RANSAC {b['gross']:.2f}"
             for o, a, b in zip(high, c, r, strict=True)))
-        table.update({f"{p}{m}_gross@{o}": n[f"{p}{m}@{o}"]["gross"]
-                      for m in ("clap", "ransac") for o in high})
+        table.update({f"{p}{m}_gross@{o}": x["gross"]
+                      for o, a, b in zip(high, c, r, strict=True)
+                      for m, x in (("clap", a), ("ransac", b))})
     return _combine(verdicts), ("share of spurious poses (beyond 0.5 m or 5 deg); "
                                 + "; ".join(parts)), table
 

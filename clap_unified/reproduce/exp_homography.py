@@ -174,7 +174,7 @@ def figures_lie(output: dict, prefix: str) -> dict:
     finite = np.concatenate([v[np.isfinite(v)] for v in vals.values()])
     figs = {}
     for scale in ("linear", "log"):
-        fig, ax = plt.subplots(figsize=(6.0, 3.6))
+        fig, ax = plt.subplots(layout="constrained", figsize=(6.0, 3.6))
         if scale == "linear":
             hi = max(float(np.percentile(finite, 90)) if len(finite) else 1.0, 1e-3)
             bins = np.linspace(0, hi, 30)
@@ -195,10 +195,10 @@ def figures_lie(output: dict, prefix: str) -> dict:
         ax.set_ylabel("pairs")
         ax.legend(fontsize=8)
         ax.set_title(f"Lie distance, {scale} scale ({source})", fontsize=9)
-        fig.tight_layout()
         figs[f"{prefix}_lie_hist_{scale}"] = fig
     scenes = list(dict.fromkeys(r["scene"] for r in rows))
-    fig, ax = plt.subplots(figsize=(6.5, min(9.0, 1.2 + 0.3 * len(scenes) * len(labels) ** 0.5)))
+    height = min(9.0, 1.2 + 0.3 * len(scenes) * len(labels) ** 0.5)
+    fig, ax = plt.subplots(layout="constrained", figsize=(6.5, height))
     h = 0.8 / len(labels)
     for j, m in enumerate(labels):
         mean = [np.mean([r["lie"] if r["lie"] is not None else np.inf
@@ -212,7 +212,6 @@ def figures_lie(output: dict, prefix: str) -> dict:
     ax.set_xlabel("mean Lie distance per scene (log scale)")
     ax.legend(fontsize=8)
     ax.set_title(f"Per-scene Lie distance ({source})", fontsize=9)
-    fig.tight_layout()
     figs[f"{prefix}_lie_per_scene"] = fig
     mosaics = output.get("artifacts", {}).get("mosaics", {})
     if mosaics:
@@ -226,7 +225,8 @@ def _mosaic_overview(mosaics: dict, title: str):
     names = sorted(mosaics)
     cols = 4
     rows = int(np.ceil(len(names) / cols))
-    fig, axes = plt.subplots(rows, cols, figsize=(11, 2.4 * rows), squeeze=False)
+    fig, axes = plt.subplots(rows, cols, layout="constrained", figsize=(11, 2.4 * rows),
+                             squeeze=False)
     for ax in axes.ravel():
         ax.axis("off")
     for ax, name in zip(axes.ravel(), names, strict=False):
@@ -234,7 +234,6 @@ def _mosaic_overview(mosaics: dict, title: str):
             ax.imshow(_decode(mosaics[name]))
         ax.set_title(name, fontsize=8)
     fig.suptitle(title, fontsize=10)
-    fig.tight_layout()
     return fig
 
 
@@ -314,7 +313,7 @@ def figures_evd(output: dict) -> dict:
     pairs = sorted(dict.fromkeys(r["pair"] for r in rows),
                    key=lambda p: next(r["inlier_ratio"] for r in rows if r["pair"] == p))
     labels = list(dict.fromkeys(r["method"] for r in rows))
-    fig, ax = plt.subplots(figsize=(10, 3.6))
+    fig, ax = plt.subplots(layout="constrained", figsize=(10, 3.6))
     w = 0.8 / len(labels)
     for j, m in enumerate(labels):
         v = [next((r["recall"] or 0.0) for r in rows if r["pair"] == p and r["method"] == m)
@@ -329,7 +328,6 @@ def figures_evd(output: dict) -> dict:
     ax.legend(fontsize=8, ncol=4)
     ax.set_title("EVD: labelled inliers within 3 px of each estimate (pairs by inlier ratio)",
                  fontsize=9)
-    fig.tight_layout()
     return {"evd_recall": fig}
 
 
@@ -400,7 +398,7 @@ def figures_stitching_real(output: dict) -> dict:
     rows = output["tables"]["sre"]
     labels = list(dict.fromkeys(r["method"] for r in rows))
     source = output["data"].split(":")[0]
-    fig, (a, b) = plt.subplots(1, 2, figsize=(10, 3.6))
+    fig, (a, b) = plt.subplots(1, 2, layout="constrained", figsize=(10, 3.6))
     for m in labels:
         v = np.sort([r["sre_common_px"] if r["sre_common_px"] is not None else np.inf
                      for r in rows if r["method"] == m])
@@ -416,7 +414,6 @@ def figures_stitching_real(output: dict) -> dict:
     a.legend(fontsize=8)
     a.set_title(f"SRE CDF ({source})", fontsize=9)
     b.set_title(f"Inlier ratio CDF ({source})", fontsize=9)
-    fig.tight_layout()
     figs = {"real_sre_cdf": fig}
     mosaics = output.get("artifacts", {}).get("mosaics", {})
     if mosaics:

@@ -94,7 +94,7 @@ def figures_localization3d(output: dict) -> dict:
     # CLAP wide and pale underneath, RANSAC dashed on top: identical curves stay visible
     styles = {"clap": {"color": "C3", "lw": 3.5, "alpha": 0.5},
               "ransac": {"color": "C0", "lw": 1.2, "ls": "--"}}
-    fig, axes = plt.subplots(2 * len(settings), len(ratios),
+    fig, axes = plt.subplots(2 * len(settings), len(ratios), layout="constrained",
                              figsize=(2.3 * len(ratios), 2.1 * 2 * len(settings)), sharey=True,
                              squeeze=False)
     for s_i, setting in enumerate(settings):
@@ -116,7 +116,6 @@ def figures_localization3d(output: dict) -> dict:
     axes[0, 0].legend(fontsize=7)
     fig.suptitle("3D localization error CDF (" + output["data"].split(":")[0] + ")",
                  fontsize=10)
-    fig.tight_layout()
     return {"localization3d_error_cdf": fig}
 
 
@@ -136,7 +135,7 @@ def run_localization2d(params: dict, seed: int) -> dict:
     from ..geometry import SE2
     from ..localization.field import load_field
     from ..localization.localize2d import localize2d
-    from ..localization.observations import simulate_observations
+    from ..localization.observations import random_frames
     from ..spaces import enumerate_hypotheses
     from ..spaces.landmarks2d import Landmark2DSpace
 
@@ -150,29 +149,21 @@ def run_localization2d(params: dict, seed: int) -> dict:
 
     rows, sym_rows = [], []
     for i, rate in enumerate(params["false_positive_rates"]):
-        rng = np.random.default_rng([seed, 1, i])
-        done = 0
-        with progress(None, f"localization2d {rate:.0%}", total=params["frames"]) as bar:
-            while done < params["frames"]:
-                truth = SE2.from_xytheta(rng.uniform(-6.5, 6.5), rng.uniform(-4, 4),
-                                         rng.uniform(-np.pi, np.pi))
-                obs = simulate_observations(field, truth, false_positive_rate=rate, rng=rng)
-                # scene selection (not estimator input): frames with at least 3 true detections
-                if np.count_nonzero(~obs.truth.is_false) < 3:
-                    continue
-                done += 1
-                bar.update(1)
-                hyps = enumerate_hypotheses(space, obs.input.data)
-                for method in ("clap", "ransac", "hough"):
-                    r = localize2d(obs.input.data, space=space, hypotheses=hyps, method=method)
-                    e = (min(error(r.model, t) for t in (truth, mirror @ truth))
-                         if r.success else (None, None))
-                    rows.append({"false_positive_rate": rate, "frame": done - 1,
-                                 "method": method, "e_t_m": e[0], "e_r_deg": e[1]})
-                    if method == "clap" and rate == 0.0:  # a failed frame counts as a miss
-                        sym_rows.append(_symmetry_row(r, truth, mirror, error) if r.success
-                                        else {"clusters": 0, "best_support": 0,
-                                              "second_support": 0, "pose_and_mirror": False})
+        frames = random_frames(field, params["frames"], false_positive_rate=rate,
+                               rng=np.random.default_rng([seed, 1, i]))
+        for k, obs in enumerate(progress(frames, f"localization2d {rate:.0%}")):
+            truth = obs.truth.pose
+            hyps = enumerate_hypotheses(space, obs.input.data)
+            for method in ("clap", "ransac", "hough"):
+                r = localize2d(obs.input.data, space=space, hypotheses=hyps, method=method)
+                e = (min(error(r.model, t) for t in (truth, mirror @ truth))
+                     if r.success else (None, None))
+                rows.append({"false_positive_rate": rate, "frame": k, "method": method,
+                             "e_t_m": e[0], "e_r_deg": e[1]})
+                if method == "clap" and rate == 0.0:  # a failed frame counts as a miss
+                    sym_rows.append(_symmetry_row(r, truth, mirror, error) if r.success
+                                    else {"clusters": 0, "best_support": 0,
+                                          "second_support": 0, "pose_and_mirror": False})
     numbers = {}
     for rate in params["false_positive_rates"]:
         for method in ("clap", "ransac", "hough"):
@@ -207,7 +198,7 @@ def figures_localization2d(output: dict) -> dict:
 
     rows = output["tables"]["errors"]
     rates = sorted({r["false_positive_rate"] for r in rows})
-    fig, ax = plt.subplots(figsize=(6.0, 3.6))
+    fig, ax = plt.subplots(layout="constrained", figsize=(6.0, 3.6))
     for method, color in (("clap", "C3"), ("ransac", "C0"), ("hough", "C2")):
         ok = [output["numbers"][f"{method}@{rate:.2f}"]["ok"] for rate in rates]
         ax.plot(np.array(rates) * 100, ok, "o-", color=color, label=method.upper()
@@ -217,7 +208,6 @@ def figures_localization2d(output: dict) -> dict:
     ax.set_ylim(0, 1.02)
     ax.legend(fontsize=8)
     ax.set_title("2D global localization, AdultSize field (simulated detections)", fontsize=10)
-    fig.tight_layout()
     return {"localization2d_accuracy": fig}
 
 

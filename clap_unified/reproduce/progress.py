@@ -10,7 +10,7 @@ __all__ = ["configure", "progress"]
 @dataclass
 class _Bar:
     position: int = 0
-    enabled: bool = True
+    enabled: bool = False  # an experiment run outside the runner (a notebook) draws no bar
 
 
 #: Set by the runner in each worker: the bar line of the running experiment.
