@@ -326,3 +326,18 @@ def test_cli_refuses_zero_jobs_and_an_unwritable_out(tmp_path, capsys):
     assert main(["reproduce", "--out", str(blocker / "x"), "--only", "localization2d"]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) >= 1 and "--out" in err[-1]
+
+
+def test_a_listener_that_is_not_a_scheduler_fails_within_the_deadline():
+    import socket
+
+    from clap_unified.reproduce.runner import _client
+
+    with socket.socket() as server:  # accepts connections and never answers
+        server.bind(("127.0.0.1", 0))
+        server.listen(5)
+        address = f"tcp://127.0.0.1:{server.getsockname()[1]}"
+        t0 = time.perf_counter()
+        with pytest.raises(OSError, match="--scheduler"):
+            _client(address, timeout=1.0)
+        assert time.perf_counter() - t0 < 5

@@ -171,8 +171,8 @@ def _client(address: str, timeout: float = 5.0):
     thread with a hard deadline, so a listener that is not a Dask scheduler
     cannot hang the command.
     """
-    import concurrent.futures
     import socket
+    import threading
     from urllib.parse import urlsplit
 
     def fail(why):
@@ -190,21 +190,25 @@ def _client(address: str, timeout: float = 5.0):
     except OSError as exc:
         raise fail(f"nothing answers there ({exc.strerror or exc})") from None
 
-    def connect():
-        from distributed import Client
+    result = {}
 
-        return Client(address, timeout=f"{timeout}s", set_as_default=False)
+    def connect():  # in a daemon thread: a connection that hangs cannot keep the process alive
+        try:
+            from distributed import Client
 
-    pool = concurrent.futures.ThreadPoolExecutor(1)
-    future = pool.submit(connect)
-    pool.shutdown(wait=False)
-    try:
-        return future.result(timeout=2 * timeout)
-    except concurrent.futures.TimeoutError:
-        future.add_done_callback(lambda f: f.exception() or f.result().close())
-        raise fail(f"no Dask scheduler answered within {2 * timeout:g} s") from None
-    except Exception as exc:  # a listener that is not a Dask scheduler: any error
-        raise fail(f"not a Dask scheduler ({type(exc).__name__}: {exc})") from None
+            result["client"] = Client(address, timeout=f"{timeout}s", set_as_default=False)
+        except Exception as exc:  # a listener that is not a Dask scheduler: any error
+            result["error"] = exc
+
+    worker = threading.Thread(target=connect, daemon=True)
+    worker.start()
+    worker.join(2 * timeout)
+    if "client" in result:
+        return result["client"]
+    if "error" in result:
+        exc = result["error"]
+        raise fail(f"not a Dask scheduler ({type(exc).__name__}: {exc})")
+    raise fail(f"no Dask scheduler answered within {2 * timeout:g} s")
 
 
 def _execute(todo, quick, jobs, scheduler, bars):
