@@ -23,6 +23,8 @@ VERDICTS = ("reproduced", "partly reproduced", "not reproduced", "data unavailab
 MARGIN = 0.05
 #: Two errors are "similar" when their ratio lies within [1 / SIMILAR, SIMILAR].
 SIMILAR = 1.25
+#: Two reprojection errors this close (pixels) are "similar" whatever their ratio.
+SRE_TOLERANCE_PX = 0.1
 #: One estimate is closer than another when their errors differ by this factor.
 CLOSER = 1.1
 #: A pair where one method's error is this many times the other's is a breakdown.
@@ -258,16 +260,18 @@ def _judge_real(outputs):
         c, r = d["CLAP"], d["RANSAC"]
         ec, er = _v(c["sre_common_px"]), _v(r["sre_common_px"])
         close_sre = (math.isfinite(ec) and math.isfinite(er)
-                     and (abs(ec - er) <= 0.1 or 1 / SIMILAR <= ec / max(er, 1e-12) <= SIMILAR))
+                     and (abs(ec - er) <= SRE_TOLERANCE_PX
+                          or 1 / SIMILAR <= ec / max(er, 1e-12) <= SIMILAR))
         similar += close_sre and abs(c["inlier_ratio"] - r["inlier_ratio"]) <= MARGIN
     share = similar / len(by) if by else 0.0
     n = outputs["stitching_real"]["numbers"]
     verdict = ("reproduced" if share >= 0.8 else
                "partly reproduced" if share >= 0.5 else "not reproduced")
     return verdict, (f"{len(by)} real pairs: similar on {similar} ({share:.0%}: RMS SRE on the "
-                     f"matches both call inliers within {SIMILAR:g}x or 0.1 px, inlier ratios "
-                     f"within {MARGIN:g}); medians CLAP {_v(n['median_sre_common']['CLAP']):.2f}"
-                     f" px / {n['median_inlier_ratio']['CLAP']:.2f}, RANSAC "
+                     f"matches both call inliers within {SIMILAR:g}x or {SRE_TOLERANCE_PX:g} px, "
+                     f"inlier ratios within {MARGIN:g}); medians CLAP "
+                     f"{_v(n['median_sre_common']['CLAP']):.2f} px / "
+                     f"{n['median_inlier_ratio']['CLAP']:.2f}, RANSAC "
                      f"{_v(n['median_sre_common']['RANSAC']):.2f} px / "
                      f"{n['median_inlier_ratio']['RANSAC']:.2f}"), \
         {"pairs": len(by), "similar": similar, "share_similar": share}
@@ -377,7 +381,8 @@ CLAIMS = [
           "Experiments and Results, Image Stitching Results (SRE CDF)",
           ("stitching_real",),
           f"per pair, similar when the RMS symmetric reprojection errors on the matches every "
-          f"method calls inliers agree within {SIMILAR:g}x or 0.1 px and the inlier ratios "
+          f"method calls inliers agree within {SIMILAR:g}x or {SRE_TOLERANCE_PX:g} px and the "
+          f"inlier ratios "
           f"within {MARGIN:g}; reproduced when similar on at least 80 % of pairs, partly on "
           f"at least 50 %, else not reproduced",
           _judge_real, "05_image_stitching"),
