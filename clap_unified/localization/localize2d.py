@@ -32,9 +32,36 @@ from ..spaces.sampling import generate_hypotheses
 from .field import Field, load_field
 from .observations import ObservationInput, Observations
 
-__all__ = ["LOCALIZE_METHODS", "as_pose", "localize2d", "observation_data"]
+__all__ = ["LOCALIZE_METHODS", "MIRROR", "as_pose", "localize2d", "observation_data", "pose_error"]
 
 LOCALIZE_METHODS = ("clap", "ransac", "hough")
+
+#: The field's 180 degree symmetry about the centre spot: ``MIRROR @ pose`` looks the same.
+MIRROR = SE2.from_xytheta(0.0, 0.0, np.pi)
+
+
+def pose_error(estimate, truth, *, up_to_symmetry: bool = False) -> tuple[float, float]:
+    """Position error (metres) and absolute heading error (degrees) of ``truth^-1 estimate``.
+
+    Parameters
+    ----------
+    estimate, truth : ndarray of shape (3, 3)
+        Poses ``T_field_robot``.
+    up_to_symmetry : bool
+        Score against the closer of ``truth`` and its mirror ``MIRROR @ truth``
+        (global localization cannot tell them apart on a symmetric field).
+
+    Examples
+    --------
+    >>> truth = SE2.from_xytheta(2.0, 1.0, 0.3)
+    >>> e = pose_error(MIRROR @ truth, truth)
+    >>> round(e[0], 3), round(e[1], 1), pose_error(MIRROR @ truth, truth, up_to_symmetry=True)
+    (4.472, 180.0, (0.0, 0.0))
+    """
+    if up_to_symmetry:
+        return min(pose_error(estimate, t) for t in (truth, MIRROR @ truth))
+    x, y, th = SE2.to_xytheta(np.linalg.inv(truth) @ estimate)
+    return float(np.hypot(x, y)), float(abs(np.degrees(th)))
 
 #: Hough grid: 0.25 m x 0.25 m x 5 degrees.
 HOUGH_CELL = (0.25, 0.25, np.radians(5.0))

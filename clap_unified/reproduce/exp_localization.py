@@ -132,21 +132,14 @@ experiment("localization3d", "3D localization: error CDF of CLAP and RANSAC agai
 OK_2D, GROSS_2D = (0.10, 2.0), (1.0, 180.0)
 
 def run_localization2d(params: dict, seed: int) -> dict:
-    from ..geometry import SE2
     from ..localization.field import load_field
-    from ..localization.localize2d import localize2d
+    from ..localization.localize2d import localize2d, pose_error
     from ..localization.observations import random_frames
     from ..spaces import enumerate_hypotheses
     from ..spaces.landmarks2d import Landmark2DSpace
 
     field = load_field("adult")
     space = Landmark2DSpace(field)
-    mirror = SE2.from_xytheta(0.0, 0.0, np.pi)
-
-    def error(T, target):
-        x, y, th = SE2.to_xytheta(np.linalg.inv(target) @ T)
-        return float(np.hypot(x, y)), float(abs(np.degrees(th)))
-
     rows, sym_rows = [], []
     for i, rate in enumerate(params["false_positive_rates"]):
         frames = random_frames(field, params["frames"], false_positive_rate=rate,
@@ -156,12 +149,12 @@ def run_localization2d(params: dict, seed: int) -> dict:
             hyps = enumerate_hypotheses(space, obs.input.data)
             for method in ("clap", "ransac", "hough"):
                 r = localize2d(obs.input.data, space=space, hypotheses=hyps, method=method)
-                e = (min(error(r.model, t) for t in (truth, mirror @ truth))
-                     if r.success else (None, None))
+                e = (pose_error(r.model, truth, up_to_symmetry=True) if r.success
+                     else (None, None))
                 rows.append({"false_positive_rate": rate, "frame": k, "method": method,
                              "e_t_m": e[0], "e_r_deg": e[1]})
                 if method == "clap" and rate == 0.0:  # a failed frame counts as a miss
-                    sym_rows.append(_symmetry_row(r, truth, mirror, error) if r.success
+                    sym_rows.append(_symmetry_row(r, truth) if r.success
                                     else {"clusters": 0, "best_support": 0,
                                           "second_support": 0, "pose_and_mirror": False})
     numbers = {}
@@ -179,18 +172,20 @@ def run_localization2d(params: dict, seed: int) -> dict:
             "tables": {"errors": rows, "symmetry": sym_rows}, "numbers": numbers}
 
 
-def _symmetry_row(r, truth, mirror, error) -> dict:
+def _symmetry_row(r, truth) -> dict:
     """Do the two best clusters hold the pose and its mirror with equal support?"""
+    from ..localization.localize2d import MIRROR, pose_error
+
     top = r.clusters[:2]
 
     def near(target):
         return any(e_t < 2 * OK_2D[0] and e_r < 2 * OK_2D[1]
-                   for e_t, e_r in (error(c.model, target) for c in top))
+                   for e_t, e_r in (pose_error(c.model, target) for c in top))
 
     tied = len(top) == 2 and top[0].support == top[1].support
     return {"clusters": len(r.clusters), "best_support": int(top[0].support),
             "second_support": int(top[1].support) if len(top) > 1 else 0,
-            "pose_and_mirror": bool(tied and near(truth) and near(mirror @ truth))}
+            "pose_and_mirror": bool(tied and near(truth) and near(MIRROR @ truth))}
 
 
 def figures_localization2d(output: dict) -> dict:
