@@ -341,3 +341,19 @@ def test_a_listener_that_is_not_a_scheduler_fails_within_the_deadline():
         with pytest.raises(OSError, match="--scheduler"):
             _client(address, timeout=1.0)
         assert time.perf_counter() - t0 < 5
+
+
+def test_similar_accuracy_needs_a_confident_majority():
+    same, apart = {"CLAP": (0.5, 0.8), "RANSAC": (0.5, 0.8)}, {"CLAP": (2.0, 0.8),
+                                                               "RANSAC": (0.5, 0.8)}
+    n = {"median_sre_common": {"CLAP": 0.5, "RANSAC": 0.5},
+         "median_inlier_ratio": {"CLAP": 0.8, "RANSAC": 0.8}}
+
+    def verdict(k, total):
+        rows = _sre_rows([same] * k + [apart] * (total - k))
+        return _judge_real({"stitching_real": {"tables": {"sre": rows}, "numbers": n}})[0]
+
+    assert verdict(17, 21) == "reproduced"         # Wilson lower bound 0.60
+    assert verdict(14, 21) == "partly reproduced"  # most pairs, but not with confidence
+    assert verdict(3, 5) == "partly reproduced"
+    assert verdict(2, 5) == "not reproduced"
