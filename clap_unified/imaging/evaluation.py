@@ -67,10 +67,11 @@ def evaluate_pair(pair, *, size=None, methods=None, seed: int = 0, repeat: int =
     -------
     list of dict
         Keys ``method, seconds, lie, corner, inliers, recall, sre, validation,
-        success``: ``recall`` is the fraction of ``truth.inliers`` within 3 px
-        (symmetric) of the estimate, ``sre`` the median symmetric
-        reprojection error on them, ``validation`` the median symmetric
-        reprojection error on ``truth.validation`` (NaN when it is empty).
+        success, model`` (the estimate, None when it failed): ``recall`` is the
+        fraction of ``truth.inliers`` within 3 px (symmetric) of the estimate,
+        ``sre`` the median symmetric reprojection error on them, ``validation``
+        the median symmetric reprojection error on ``truth.validation`` (NaN
+        when it is empty).
 
     Raises
     ------
@@ -104,9 +105,9 @@ def evaluate_pair(pair, *, size=None, methods=None, seed: int = 0, repeat: int =
             times.append(time.perf_counter() - t0)
         H = res.model if res.success else None
         if H is not None and gt_inliers.any():
-            est_in = symmetric_reprojection_error(H, m) < 3.0
-            recall = float(np.mean(est_in[gt_inliers]))
-            sre = float(np.median(symmetric_reprojection_error(H, m[gt_inliers])))
+            e = symmetric_reprojection_error(H, m)[gt_inliers]
+            recall = float(np.mean(e < 3.0))
+            sre = float(np.median(e))
         elif H is not None:
             recall, sre = float("nan"), float("nan")
         else:
@@ -120,7 +121,7 @@ def evaluate_pair(pair, *, size=None, methods=None, seed: int = 0, repeat: int =
         rows.append({"method": label, "seconds": float(np.median(times)),
                      "lie": lie_error(H, H_gt), "corner": corner_error(H, H_gt, size),
                      "inliers": res.n_inliers, "recall": recall, "sre": sre,
-                     "validation": val, "success": bool(res.success)})
+                     "validation": val, "success": bool(res.success), "model": H})
     return rows
 
 

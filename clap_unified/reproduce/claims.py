@@ -190,14 +190,20 @@ def _judge_3d_spurious(outputs):
                                 + "; ".join(parts)), table
 
 
-def _per_pair(rows, key="lie", a="CLAP", b="RANSAC"):
-    """Per-pair comparison of ``a`` and ``b`` on the error ``key`` (None: failed)."""
+def _by_pair(rows) -> dict:
+    """``{pair: {method: row}}`` of a table with ``pair`` and ``method`` columns."""
     by = {}
     for r in rows:
-        by.setdefault(r["pair"], {})[r["method"]] = _v(r[key])
+        by.setdefault(r["pair"], {})[r["method"]] = r
+    return by
+
+
+def _per_pair(rows, key="lie", a="CLAP", b="RANSAC"):
+    """Per-pair comparison of ``a`` and ``b`` on the error ``key`` (None: failed)."""
+    by = _by_pair(rows)
     closer = farther = broke_a = broke_b = 0
     for d in by.values():
-        ea, eb = d[a], d[b]
+        ea, eb = _v(d[a][key]), _v(d[b][key])
         if ea * CLOSER < eb:
             closer += 1
         elif eb * CLOSER < ea:
@@ -208,69 +214,62 @@ def _per_pair(rows, key="lie", a="CLAP", b="RANSAC"):
             f"breakdowns_{a}": int(broke_a), f"breakdowns_{b}": int(broke_b)}
 
 
-def _judge_closer(outputs):
-    primary = (("homography_vpg", "VPG S01-S12") if "homography_vpg" in outputs else
-               ("homography_synthetic", "synthetic VPG-layout (substitute)"))
-    parts, verdicts, numbers = [], [], {}
-    for name, label in (primary, ("homography_homogr", "homogr")):
-        if name not in outputs:
-            continue
-        c = _per_pair(outputs[name]["tables"]["lie"])
-        numbers[name] = c
-        if c["closer"] > c["farther"] and c["breakdowns_CLAP"] <= c["breakdowns_RANSAC"]:
-            verdicts.append("closer")
-        elif c["farther"] > c["closer"] or c["breakdowns_CLAP"] > c["breakdowns_RANSAC"]:
-            verdicts.append("farther")
-        else:
-            verdicts.append("similar")
-        parts.append(f"{label}, {c['pairs']} pairs: CLAP closer on {c['closer']}, RANSAC closer "
-                     f"on {c['farther']} (by more than {CLOSER:g}x); breakdowns (more than "
-                     f"{BREAKDOWN:g}x the other's distance): CLAP {c['breakdowns_CLAP']}, "
-                     f"RANSAC {c['breakdowns_RANSAC']}")
-    if not verdicts:
+def _over_homography_sets(outputs, judge_set):
+    """Apply ``judge_set(name, output) -> (holds, measured, numbers)`` to VPG S01-S12 (or its
+    substitute) and homogr: reproduced when it holds on every set, partly on one."""
+    primary = "homography_vpg" if "homography_vpg" in outputs else "homography_synthetic"
+    held, parts, numbers = [], [], {}
+    for name in (primary, "homography_homogr"):
+        if name in outputs:
+            holds, measured, numbers[name] = judge_set(name, outputs[name])
+            held.append(holds)
+            parts.append(measured)
+    if not held:
         return "data unavailable", "", numbers
-    verdict = ("reproduced" if all(v == "closer" for v in verdicts) else
-               "partly reproduced" if "closer" in verdicts else "not reproduced")
+    verdict = ("reproduced" if all(held) else
+               "partly reproduced" if any(held) else "not reproduced")
     return verdict, "; ".join(parts), numbers
 
 
+def _judge_closer(outputs):
+    def closer(name, output):
+        c = _per_pair(output["tables"]["lie"])
+        holds = c["closer"] > c["farther"] and c["breakdowns_CLAP"] <= c["breakdowns_RANSAC"]
+        label = output["data"].split(":")[0]
+        return holds, (f"{label}, {c['pairs']} pairs: CLAP closer on {c['closer']}, RANSAC "
+                       f"closer on {c['farther']} (by more than {CLOSER:g}x); breakdowns (more "
+                       f"than {BREAKDOWN:g}x the other's distance): CLAP {c['breakdowns_CLAP']}, "
+                       f"RANSAC {c['breakdowns_RANSAC']}"), c
+
+    return _over_homography_sets(outputs, closer)
+
+
 def _judge_stability(outputs):
-    primary = "homography_vpg" if "homography_vpg" in outputs else "homography_synthetic"
-    parts, verdicts, numbers = [], [], {}
-    for name in (primary, "homography_homogr"):
-        if name not in outputs:
-            continue
+    def steadier(name, output):
         spread = {}
-        for r in outputs[name]["tables"]["stability"]:
+        for r in output["tables"]["stability"]:
             spread.setdefault((r["pair"], r["method"]), []).append(_v(r["lie"]))
         pairs = sorted({p for p, _ in spread})
         width = {k: (max(v) - min(v)) if all(math.isfinite(x) for x in v) else math.inf
                  for k, v in spread.items()}
-        steadier = sum(width[(p, "CLAP")] * CLOSER < width[(p, "RANSAC")]
-                       and width[(p, "RANSAC")] > 1e-9 for p in pairs)
-        shakier = sum(width[(p, "RANSAC")] * CLOSER < width[(p, "CLAP")]
-                      and width[(p, "CLAP")] > 1e-9 for p in pairs)
+
+        def narrower(a, b):
+            return sum(width[(p, a)] * CLOSER < width[(p, b)] and width[(p, b)] > 1e-9
+                       for p in pairs)
+
+        clap, ransac = narrower("CLAP", "RANSAC"), narrower("RANSAC", "CLAP")
         seeds = len(next(iter(spread.values()))) if spread else 0
-        numbers[name] = {"pairs": len(pairs), "seeds": seeds, "CLAP_steadier": steadier,
-                         "RANSAC_steadier": shakier}
-        verdicts.append("steadier" if steadier > shakier else
-                        "shakier" if shakier > steadier else "same")
-        label = outputs[name]["data"].split(":")[0]
-        parts.append(f"{label}, {len(pairs)} pairs x {seeds} seeds: the spread of the Lie "
-                     f"distance over seeds is smaller for CLAP on {steadier} pairs, for RANSAC "
-                     f"on {shakier}")
-    if not verdicts:
-        return "data unavailable", "", numbers
-    verdict = ("reproduced" if all(v == "steadier" for v in verdicts) else
-               "partly reproduced" if "steadier" in verdicts else "not reproduced")
-    return verdict, "; ".join(parts), numbers
+        label = output["data"].split(":")[0]
+        return clap > ransac, (f"{label}, {len(pairs)} pairs x {seeds} seeds: the spread of the "
+                               f"Lie distance over seeds is smaller for CLAP on {clap} pairs, "
+                               f"for RANSAC on {ransac}"), \
+            {"pairs": len(pairs), "seeds": seeds, "CLAP_steadier": clap, "RANSAC_steadier": ransac}
+
+    return _over_homography_sets(outputs, steadier)
 
 
 def _judge_real(outputs):
-    rows = outputs["stitching_real"]["tables"]["sre"]
-    by = {}
-    for r in rows:
-        by.setdefault(r["pair"], {})[r["method"]] = r
+    by = _by_pair(outputs["stitching_real"]["tables"]["sre"])
     similar = 0
     for d in by.values():
         c, r = d["CLAP"], d["RANSAC"]
@@ -295,9 +294,7 @@ def _judge_real(outputs):
 
 def _judge_evd(outputs):
     rows = outputs["homography_evd"]["tables"]["lie"]
-    by = {}
-    for r in rows:
-        by.setdefault(r["pair"], {})[r["method"]] = r
+    by = _by_pair(rows)
     more = sum((d["CLAP"]["recall"] or 0) > (d["RANSAC"]["recall"] or 0) + MARGIN
                for d in by.values())
     fewer = sum((d["RANSAC"]["recall"] or 0) > (d["CLAP"]["recall"] or 0) + MARGIN
