@@ -8,32 +8,45 @@ turns minimal samples of data into candidate models living on a
 * :mod:`clap_unified.ransac` scores each against the data (RANSAC),
 * :mod:`clap_unified.clap` finds density centres among them (CLAP).
 
-All three return a :class:`~clap_unified.result.ConsensusResult`. The strategy
-functions live in their subpackages (``from clap_unified.clap import clap``,
-``from clap_unified.ransac import ransac``) so the subpackage names stay
-importable; :func:`compare` runs several on one identical hypothesis set.
+Each is a strategy registered under one name (:mod:`clap_unified.registry`);
+:func:`fit` is the one entry point, and :func:`compare` runs several strategies
+on one identical hypothesis set. All return a frozen
+:class:`~clap_unified.result.ConsensusResult`. The house is described in
+``ARCHITECTURE.md``.
 """
 
-from . import clap, geometry, hough, ransac, spaces
-from .compare import METHODS, compare, fit_line
-from .result import Cluster, ConsensusResult
+from . import geometry, spaces
+from .fitting import compare, fit, fit_line
+from .registry import Strategy, get_strategy, register_strategy, strategy_names
+from .result import Cluster, Consensus, ConsensusResult
 from .spaces import HypothesisSet, HypothesisSpace, LineSpace, generate_hypotheses
+
+# The strategies register themselves on import (subpackages: hough, ransac, clap).
+from . import hough, ransac, clap  # noqa: E402,I001  isort: skip
+from .registry import load_plugins  # noqa: E402
+
+load_plugins()
 
 __version__ = "0.1.0"
 
 __all__ = [
-    "METHODS",
     "Cluster",
+    "Consensus",
     "ConsensusResult",
     "HypothesisSet",
     "HypothesisSpace",
     "LineSpace",
     "clap",
     "compare",
+    "fit",
     "fit_line",
+    "get_strategy",
     "generate_hypotheses",
     "geometry",
     "hough",
     "ransac",
+    "register_strategy",
     "spaces",
+    "strategy_names",
+    "Strategy",
 ]

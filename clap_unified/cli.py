@@ -15,10 +15,11 @@ import argparse
 import importlib
 import json
 import sys
-import time
 
-from .compare import fit_line
+from .fitting import fit_line
 from .io import read_points_csv
+from .registry import strategy_names
+from .spaces import LineSpace
 
 __all__ = ["main", "COMMANDS"]
 
@@ -43,7 +44,8 @@ def register(sub) -> None:
     kinds = fit.add_subparsers(dest="kind", required=True, parser_class=_Parser)
     line = kinds.add_parser("line", help="fit a 2D line to POINTS.csv (rows x,y)")
     line.add_argument("points", help="CSV file, one point per row: x,y (header optional)")
-    line.add_argument("--method", choices=["hough", "ransac", "clap"], default="clap")
+    line.add_argument("--method", choices=list(strategy_names(LineSpace())), default="clap",
+                      help="consensus strategy (default clap)")
     line.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
     line.add_argument("--threshold", type=float, default=None,
                       help="inlier distance in data units (default 2%% of the data radius)")
@@ -66,22 +68,8 @@ def _parser() -> argparse.ArgumentParser:
 
 def _fit_line(args) -> dict:
     points = read_points_csv(args.points, columns=2, min_rows=2)
-    t0 = time.perf_counter()
-    res = fit_line(points, args.method, n_hypotheses=args.hypotheses,
-                   residual_threshold=args.threshold, rng=args.seed)
-    seconds = time.perf_counter() - t0
-    out = {
-        "model": res.space.model_to_dict(res.model) if res.model is not None else None,
-        "inliers": res.n_inliers,
-        "success": bool(res.success),
-        "seconds": round(seconds, 6),
-        "method": args.method,
-        "points": len(points),
-        "clusters": [c.to_dict(res.space) for c in res.clusters],
-    }
-    if not res.success:
-        out["reason"] = res.reason
-    return out
+    return fit_line(points, args.method, n_hypotheses=args.hypotheses,
+                    threshold=args.threshold, rng=args.seed).to_dict()
 
 
 def main(argv=None) -> int:

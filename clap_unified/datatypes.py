@@ -33,7 +33,7 @@ import dataclasses
 
 import numpy as np
 
-__all__ = ["freeze_arrays", "readonly"]
+__all__ = ["ReadOnlyDict", "freeze_arrays", "readonly"]
 
 
 def readonly(array, dtype=None) -> np.ndarray:
@@ -58,3 +58,26 @@ def freeze_arrays(obj) -> None:
         value = getattr(obj, f.name)
         if isinstance(value, np.ndarray):
             object.__setattr__(obj, f.name, readonly(value))
+
+
+class ReadOnlyDict(dict):
+    """A dict that refuses changes (and still pickles, unlike ``MappingProxyType``).
+
+    Examples
+    --------
+    >>> d = ReadOnlyDict(seconds=0.5)
+    >>> d["seconds"] = 1.0
+    Traceback (most recent call last):
+    ...
+    TypeError: read-only: diagnostics of a frozen result cannot change; use result.replace(diagnostics={...})
+    """
+
+    def _refuse(self, *args, **kwargs):
+        raise TypeError("read-only: diagnostics of a frozen result cannot change; "
+                        "use result.replace(diagnostics={...})")
+
+    __setitem__ = __delitem__ = _refuse
+    clear = pop = popitem = setdefault = update = __ior__ = _refuse
+
+    def __reduce__(self):
+        return (ReadOnlyDict, (dict(self),))

@@ -21,26 +21,19 @@ def refit_on_inliers(space, model, data, threshold: float, *, iterations: int = 
     OpenCV); later rounds are kept only while the inlier set does not shrink,
     and stop when it no longer changes.
 
-    A space may define ``refit_steps(data, threshold)`` returning two
-    functions, ``inliers(model)`` and ``refit(inliers, model)``, equal to
-    :func:`inliers_of` and ``space.refit(data[inliers], initial=model)`` but
-    sharing work between them (e.g. the data-to-map association computed for
-    the inliers of a model is the one its refit needs).
+    The inlier test and the refit come from ``space.refit_steps(data,
+    threshold)``: by default :func:`inliers_of` and
+    ``space.refit(data[inliers], initial=model)``; a space that declares
+    ``local_refit`` shares work between them (e.g. the data-to-map
+    association computed for the inliers of a model is the one its refit
+    needs).
 
     Returns
     -------
     model : ndarray
     inliers : ndarray of bool, shape (N,)
     """
-    steps = getattr(space, "refit_steps", None)
-    if steps is not None:
-        inliers_fn, refit_fn = steps(data, threshold)
-    else:
-        def inliers_fn(m):
-            return inliers_of(space, m, data, threshold)
-
-        def refit_fn(inl, m):
-            return space.refit(data[inl], initial=m)
+    inliers_fn, refit_fn = space.refit_steps(data, threshold)
     inliers = inliers_fn(model)
     for round_ in range(iterations):
         if np.count_nonzero(inliers) < space.min_samples:

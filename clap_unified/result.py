@@ -1,26 +1,30 @@
-"""The result type shared by the three consensus strategies."""
+"""The result type shared by every consensus strategy, frozen once built."""
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass, field
-
 import numpy as np
 
-__all__ = ["Cluster", "ConsensusResult", "runner_up_ratio"]
+from .datatypes import ReadOnlyDict, freeze_arrays
+
+__all__ = ["Cluster", "Consensus", "ConsensusResult", "runner_up_ratio"]
 
 
-@dataclass
+@dataclass(frozen=True)
 class Cluster:
     """One dense group of hypotheses: one of the "n possibilities".
 
     Attributes
     ----------
     model : ndarray
-        The cluster centre (a model of the hypothesis space).
+        The cluster's centre, a point of hypothesis space (a cell's mean, a
+        robust centre, RANSAC's winning hypothesis). The result's model is
+        the best cluster's centre after refinement on its data inliers.
     support : int
         Hypotheses behind the cluster: votes in a Hough cell, for CLAP the
         hypotheses in the neighbourhood the centre was computed from (within
-        the bandwidth of the seed, or within the radius of the guess in local
+        the bandwidth of the seed, or within the radius of the prior in local
         mode; before trimming), data inliers for RANSAC.
     spread : float
         Median distance of the members to the centre, in the manifold's
@@ -34,10 +38,8 @@ class Cluster:
     spread: float
     members: np.ndarray = field(default_factory=lambda: np.empty(0, dtype=np.intp))
 
-    def to_dict(self, space=None) -> dict:
-        model = (space.model_to_dict(self.model) if space is not None
-                 else np.asarray(self.model).tolist())
-        return {"model": model, "support": int(self.support), "spread": float(self.spread)}
+    def __post_init__(self):
+        freeze_arrays(self)
 
 
 def runner_up_ratio(clusters) -> float:
@@ -47,36 +49,89 @@ def runner_up_ratio(clusters) -> float:
     return clusters[1].support / clusters[0].support
 
 
-@dataclass
+@dataclass(frozen=True)
+class Consensus:
+    """What a strategy hands back to :func:`~clap_unified.fit`, before refinement.
+
+    A strategy finds where the consensus is; :func:`~clap_unified.fit` then
+    refines that model on its data inliers and builds the
+    :class:`ConsensusResult`, so every strategy's result is finished the same
+    way.
+
+    Attributes
+    ----------
+    model : ndarray or None
+        The consensus model; ``None`` when the strategy failed (``reason``
+        says why).
+    clusters : tuple of Cluster
+        Every cluster or peak found, best first (the best one's centre is
+        ``model``).
+    support : ndarray of bool, shape (H,)
+        Hypotheses behind the model (cluster members, a cell's voters, the
+        winning hypothesis); empty for strategies that use no hypotheses.
+    score : float
+        The strategy's own score of the consensus (cluster support, votes,
+        inlier count or MSAC score).
+    reason : str
+        ``"ok"`` or why there is no model.
+    diagnostics : dict
+        Strategy-specific counts (bandwidth, occupied cells, trials...).
+    """
+
+    model: np.ndarray | None
+    clusters: tuple = ()
+    support: np.ndarray = field(default_factory=lambda: np.zeros(0, bool))
+    score: float = 0.0
+    reason: str = "ok"
+    diagnostics: dict = field(default_factory=dict)
+
+    @classmethod
+    def failed(cls, reason: str, **diagnostics) -> Consensus:
+        """No consensus, with the reason."""
+        return cls(None, reason=reason, diagnostics=diagnostics)
+
+
+@dataclass(frozen=True)
 class ConsensusResult:
-    """What every strategy returns.
+    """What :func:`~clap_unified.fit` returns, for every strategy and space.
 
     A failed estimate is a value, not an exception: ``success`` is False,
     ``reason`` says why, and ``model`` is None. The result tests false then.
+    Results are frozen: arrays are read-only and ``diagnostics`` is a
+    read-only mapping; :func:`dataclasses.replace` makes a changed copy.
+
+    Every field describes the returned model: ``inliers`` are the data within
+    ``threshold`` of ``model``; ``model`` is ``clusters[0].model`` refined on
+    its inliers (equal to it with ``refine=False``); ``score`` is the
+    strategy's score of it (for RANSAC, scored again after refinement; for
+    CLAP and Hough, the support of the cluster it was refined from).
 
     Attributes
     ----------
     method : str
-        ``"hough"``, ``"randomized_hough"``, ``"ransac"`` or ``"clap"``.
+        The registered strategy name (``"clap"``, ``"ransac"``,
+        ``"randomized_hough"``, ``"hough"``, ...).
     success : bool
     reason : str
         Why it failed, or ``"ok"``.
     model : ndarray or None
         The estimate.
     inliers : ndarray of bool, shape (N,)
-        Data within the residual threshold of ``model``.
+        Data within ``threshold`` of ``model``.
     support : ndarray of bool, shape (H,)
         Hypotheses that support the estimate (cluster members, the cell's
         voters, or the winning hypothesis for RANSAC).
     score : float
-        The strategy's own score of the estimate (inlier count, MSAC score,
-        votes, cluster support).
-    clusters : list of Cluster
+        The strategy's own score of the estimate.
+    clusters : tuple of Cluster
         Every cluster or peak found, best first.
-    diagnostics : dict
-        Counts, iterations, spreads, runner-up ratio, timings.
+    diagnostics : mapping
+        Counts, spreads, runner-up ratio, timings (``"seconds"``,
+        ``"generation_seconds"``).
     space : HypothesisSpace
         The space the model belongs to.
+    threshold : float or None
+        The inlier threshold, in data units.
     """
 
     method: str
@@ -86,9 +141,15 @@ class ConsensusResult:
     inliers: np.ndarray
     support: np.ndarray
     score: float
-    clusters: list = field(default_factory=list)
-    diagnostics: dict = field(default_factory=dict)
+    clusters: tuple = ()
+    diagnostics: ReadOnlyDict = field(default_factory=ReadOnlyDict)
     space: object = field(default=None, repr=False)
+    threshold: float | None = None
+
+    def __post_init__(self):
+        freeze_arrays(self)
+        object.__setattr__(self, "clusters", tuple(self.clusters))
+        object.__setattr__(self, "diagnostics", ReadOnlyDict(self.diagnostics))
 
     def __bool__(self) -> bool:
         return bool(self.success)
@@ -99,25 +160,51 @@ class ConsensusResult:
 
     @classmethod
     def failure(cls, method: str, reason: str, n_data: int = 0, n_hypotheses: int = 0,
-                space=None, **diagnostics) -> ConsensusResult:
+                space=None, threshold: float | None = None, **diagnostics) -> ConsensusResult:
         """A failed result with a reason."""
         return cls(method, False, reason, None, np.zeros(n_data, bool),
-                   np.zeros(n_hypotheses, bool), 0.0, [], dict(diagnostics), space)
+                   np.zeros(n_hypotheses, bool), 0.0, (), diagnostics, space, threshold)
+
+    def replace(self, **changes) -> ConsensusResult:
+        """A copy with some fields changed (``diagnostics`` entries are merged in)."""
+        if "diagnostics" in changes:
+            changes["diagnostics"] = {**self.diagnostics, **changes["diagnostics"]}
+        return dataclasses.replace(self, **changes)
 
     def to_dict(self) -> dict:
-        """JSON-friendly summary (model described by its space)."""
-        model = None
-        if self.model is not None:
-            model = (self.space.model_to_dict(self.model) if self.space is not None
-                     else np.asarray(self.model).tolist())
+        """The one JSON form of a result, used by every command of the CLI.
+
+        Keys: ``method``, ``success``, ``reason``, ``model`` (described by the
+        space, e.g. ``{"normal", "offset"}`` for a line, ``{"x", "y",
+        "theta"}`` for a planar pose), ``inliers`` (count), ``data`` (count),
+        ``threshold``, ``score``, ``clusters`` (each with its model, support
+        and spread) and ``seconds``.
+
+        Examples
+        --------
+        >>> from clap_unified import fit, LineSpace
+        >>> pts = np.c_[np.arange(5.0), np.arange(5.0)]
+        >>> d = fit(LineSpace(), pts, "ransac", threshold=0.1, rng=0).to_dict()
+        >>> sorted(d)  # doctest: +NORMALIZE_WHITESPACE
+        ['clusters', 'data', 'inliers', 'method', 'model', 'reason', 'score', 'seconds',
+         'success', 'threshold']
+        """
+        def describe(model):
+            return (self.space.model_to_dict(model) if self.space is not None
+                    else np.asarray(model).tolist())
+
         return {
             "method": self.method,
             "success": bool(self.success),
             "reason": self.reason,
-            "model": model,
+            "model": None if self.model is None else describe(self.model),
             "inliers": self.n_inliers,
+            "data": int(len(self.inliers)),
+            "threshold": None if self.threshold is None else float(self.threshold),
             "score": float(self.score),
-            "clusters": [c.to_dict(self.space) for c in self.clusters],
+            "clusters": [{"model": describe(c.model), "support": int(c.support),
+                          "spread": float(c.spread)} for c in self.clusters],
+            "seconds": round(float(self.diagnostics.get("seconds", 0.0)), 6),
         }
 
     def __repr__(self) -> str:

@@ -16,7 +16,7 @@ def test_clap_recovers_line_with_70_percent_outliers_within_one_degree():
     scene = line_scene(n=300, outlier_ratio=0.7, seed=11)
     pts, inlier = scene.input.points, scene.truth.is_inlier
     space = LineSpace.for_data(pts)
-    res = clap(space, pts, n_hypotheses=2000, residual_threshold=0.06, rng=5)
+    res = clap(space, pts, n_hypotheses=2000, threshold=0.06, rng=5)
     assert res.success
     angle, offset = line_errors(space, res.model)
     assert angle < 1.0
@@ -29,7 +29,7 @@ def test_clap_recovers_line_with_70_percent_outliers_within_one_degree():
 @pytest.mark.parametrize("method", ["hough", "randomized_hough", "ransac", "clap"])
 def test_every_method_fits_a_clean_line_at_50_percent_outliers(method):
     pts = line_scene(n=200, outlier_ratio=0.5, seed=2).input.points
-    res = fit_line(pts, method, residual_threshold=0.06, rng=0)
+    res = fit_line(pts, method, threshold=0.06, rng=0)
     angle, offset = line_errors(res.space, res.model)
     assert res.success and angle < 1.0 and offset < 0.05
 
@@ -45,7 +45,7 @@ def test_same_seed_same_result_bit_for_bit(method):
 
 def test_compare_uses_identical_hypotheses():
     pts = line_scene(seed=3).input.points
-    out = compare(LineSpace.for_data(pts), pts, n_hypotheses=500, residual_threshold=0.06, rng=1)
+    out = compare(LineSpace.for_data(pts), pts, n_hypotheses=500, threshold=0.06, rng=1)
     assert set(out) == {"randomized_hough", "ransac", "clap"}
     assert all(r.success for r in out.values())
     assert {len(r.support) for r in out.values()} == {500}
@@ -57,7 +57,7 @@ def test_clap_reports_both_lines_as_clusters():
     b = line_scene(n=100, outlier_ratio=0.0, theta=-1.0, intercept=-2.0, seed=2).input.points
     pts = np.r_[a, b]
     space = LineSpace.for_data(pts)
-    res = clap(space, pts, n_hypotheses=2000, residual_threshold=0.06, rng=0)
+    res = clap(space, pts, n_hypotheses=2000, threshold=0.06, rng=0)
     assert len(res.clusters) >= 2
     first, second = res.clusters[0].model, res.clusters[1].model
     assert line_errors(space, first, 0.3, 1.0)[0] < 1.0
@@ -73,13 +73,13 @@ def test_clap_local_mode_uses_the_guess():
     space = LineSpace.for_data(pts)
     hs = generate_hypotheses(space, pts, 2000, rng=0)
     guess = np.array([-1.0 + np.pi / 2 + 0.05, -2.0 * np.cos(-1.0) + 0.1])
-    res = clap(space, pts, hypotheses=hs, mode="local", initial_guess=guess, radius=0.5,
-               residual_threshold=0.06)
+    res = clap(space, pts, hypotheses=hs, prior=guess, radius=0.5, threshold=0.06)
     assert line_errors(space, res.model, -1.0, -2.0)[0] < 1.0
-    far = clap(space, pts, hypotheses=hs, mode="local", initial_guess=[2.5, 50.0], radius=0.1)
+    assert res.diagnostics["mode"] == "local"
+    far = clap(space, pts, hypotheses=hs, prior=[2.5, 50.0], radius=0.1)
     assert not far.success and "within radius" in far.reason
-    with pytest.raises(ValueError, match="initial_guess"):
-        clap(space, pts, hypotheses=hs, mode="local")
+    with pytest.raises(ValueError, match="radius"):
+        clap(space, pts, hypotheses=hs, prior=guess)
 
 
 @pytest.mark.parametrize("centre", ["medoid", "karcher", "log_euclidean", "split", "median"])
@@ -88,7 +88,7 @@ def test_clap_centres_and_rejections(centre, rejection):
     pts = line_scene(n=200, outlier_ratio=0.4, seed=6).input.points
     space = LineSpace.for_data(pts)
     res = clap(space, pts, n_hypotheses=800, centre=centre, rejection=rejection,
-               residual_threshold=0.06, rng=2)
+               threshold=0.06, rng=2)
     assert line_errors(space, res.model)[0] < 1.0
 
 
@@ -107,19 +107,19 @@ def test_failures_are_values_with_reasons():
         res = fit_line(pts, method, rng=0)
         assert not res.success and not res
         assert res.model is None and res.reason
-    with pytest.raises(ValueError, match="residual_threshold"):
-        ransac(LineSpace(), np.eye(2), residual_threshold=-1)
-    with pytest.raises(ValueError, match="mode"):
-        clap(LineSpace(), np.eye(2), mode="sideways")
+    with pytest.raises(ValueError, match="threshold"):
+        ransac(LineSpace(), np.eye(2), threshold=-1)
+    with pytest.raises(ValueError, match="centre"):
+        clap(LineSpace(), np.eye(2), centre="sideways")
     with pytest.raises(ValueError, match="method"):
         fit_line(np.eye(2), "magic")
 
 
 def test_ransac_adaptive_stops_early_on_clean_data():
     pts = line_scene(n=200, outlier_ratio=0.1, seed=8).input.points
-    res = ransac(LineSpace(), pts, max_trials=1000, confidence=0.99, residual_threshold=0.06,
+    res = ransac(LineSpace(), pts, n_hypotheses=1000, confidence=0.99, threshold=0.06,
                  batch_size=10, rng=0)
-    fixed = ransac(LineSpace(), pts, max_trials=1000, residual_threshold=0.06, rng=0)
+    fixed = ransac(LineSpace(), pts, n_hypotheses=1000, threshold=0.06, rng=0)
     assert res.diagnostics["trials"] < 100 <= fixed.diagnostics["trials"]
     assert line_errors(res.space, res.model)[0] < 1.0
     assert required_trials(0.1, 2, 0.99) == pytest.approx(458.2, abs=0.1)
@@ -127,7 +127,7 @@ def test_ransac_adaptive_stops_early_on_clean_data():
 
 def test_msac_score_prefers_tighter_fit():
     pts = line_scene(n=200, outlier_ratio=0.3, seed=5).input.points
-    res = ransac(LineSpace(), pts, score="msac", residual_threshold=0.06, rng=0)
+    res = ransac(LineSpace(), pts, score="msac", threshold=0.06, rng=0)
     assert res.score <= 0 and line_errors(res.space, res.model)[0] < 1.0
 
 
@@ -135,12 +135,12 @@ def test_hough_peaks_find_two_lines_and_wrap_at_vertical():
     y = np.linspace(-5, 5, 60)
     vertical = np.c_[np.full(60, 2.0), y]
     horizontal = np.c_[y, np.full(60, -1.0)]
-    res = hough_lines(np.r_[vertical, horizontal], residual_threshold=0.05, num_peaks=4)
+    res = hough_lines(np.r_[vertical, horizontal], threshold=0.05, num_peaks=4)
     thetas = sorted(round(float(c.model[0]), 2) for c in res.clusters[:2])
     assert thetas == [0.0, 1.57]
     # near-vertical line straddling theta = 0 / pi is a single peak
     tilt = np.c_[2.0 + 0.002 * y, y]
-    res = hough_lines(tilt, residual_threshold=0.05, num_peaks=3)
+    res = hough_lines(tilt, threshold=0.05, num_peaks=3)
     assert res.clusters[0].support == 60
     assert len(res.clusters) == 1 or res.clusters[1].support < 30
 
@@ -149,7 +149,7 @@ def test_randomized_hough_recentre_handles_chart_seam():
     # a horizontal line has theta = pi/2, on the seam of the chart at theta = 0
     pts = line_scene(n=200, outlier_ratio=0.5, theta=0.0, intercept=0.5, seed=3).input.points
     space = LineSpace.for_data(pts)
-    res = randomized_hough(space, pts, cell_size=0.1, residual_threshold=0.06, rng=0)
+    res = randomized_hough(space, pts, cell_size=0.1, threshold=0.06, rng=0)
     assert line_errors(space, res.model, 0.0, 0.5)[0] < 1.0
 
 

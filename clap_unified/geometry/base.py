@@ -50,6 +50,10 @@ class Manifold(ABC):
     #: Up to this many points a symmetric pairwise matrix is one broadcast call
     #: (every pair twice, fewer Python-level calls); cheap distances raise it.
     small_pairwise: int = 64
+    #: Declared abilities beyond the protocol: :meth:`split_mean` and
+    #: :meth:`chordal_embedding` exist only where these are True.
+    has_split_mean: bool = False
+    has_chordal_embedding: bool = False
     #: Short name used in reprs and figures.
     name: str = "manifold"
 

@@ -82,6 +82,7 @@ class Line2D(Manifold):
     point_shape = (2,)
     is_metric = False
     name = "lines"
+    has_split_mean = True
 
     def __init__(self, length_scale: float = 1.0, origin=(0.0, 0.0)):
         self.length_scale = check_positive(length_scale, "length_scale")

@@ -57,6 +57,7 @@ class SE2(MatrixLieGroup):
     is_metric = False
     small_pairwise = 512
     name = "SE(2)"
+    has_split_mean = True
 
     def __init__(self, angle_weight: float = 1.0):
         self.angle_weight = check_positive(angle_weight, "angle_weight")

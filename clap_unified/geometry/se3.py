@@ -61,6 +61,8 @@ class SE3(MatrixLieGroup):
     matrix_size = 4
     is_metric = False
     name = "SE(3)"
+    has_split_mean = True
+    has_chordal_embedding = True
 
     #: Distances :meth:`distance` can use.
     METRICS = ("lie", "relative", "point_set")

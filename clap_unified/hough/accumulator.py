@@ -64,17 +64,33 @@ def line_accumulator(points, *, theta_resolution: float = np.pi / 180,
     """
     pts = check_points(points, "points", dim=2, min_count=1)
     dt = check_positive(theta_resolution, "theta_resolution")
-    o = pts.mean(axis=0) if origin is None else np.asarray(origin, dtype=float)
-    rel = pts - o
-    r_max = float(np.max(np.hypot(rel[:, 0], rel[:, 1]))) if len(rel) else 0.0
-    if rho_resolution is None:
-        rho_resolution = max(2 * r_max / 200, 1e-12)
-    dr = check_positive(rho_resolution, "rho_resolution")
+    o, rel, dr, rhos = _rho_grid(pts, rho_resolution, origin)
+    n_rho = len(rhos)
     thetas = np.arange(0.0, np.pi, dt)
-    n_rho = int(np.floor(r_max / dr)) * 2 + 3
-    rhos = (np.arange(n_rho) - n_rho // 2) * dr
     rho = rel @ np.stack([np.cos(thetas), np.sin(thetas)])  # (N, n_theta)
     j = np.clip(np.rint(rho / dr).astype(np.intp) + n_rho // 2, 0, n_rho - 1)
     flat = j + (np.arange(len(thetas)) * n_rho)[None, :]
     votes = np.bincount(flat.ravel(), minlength=len(thetas) * n_rho).reshape(len(thetas), n_rho)
     return LineAccumulator(votes, thetas, rhos, o)
+
+
+def _radius(rel) -> float:
+    return float(np.max(np.hypot(rel[:, 0], rel[:, 1]))) if len(rel) else 0.0
+
+
+def _rho_grid(pts, rho_resolution, origin):
+    """Origin, points relative to it, the rho step and the rho cell centres."""
+    o = pts.mean(axis=0) if origin is None else np.asarray(origin, dtype=float)
+    rel = pts - o
+    r_max = _radius(rel)
+    if rho_resolution is None:
+        rho_resolution = max(2 * r_max / 200, 1e-12)
+    dr = check_positive(rho_resolution, "rho_resolution")
+    n_rho = int(np.floor(r_max / dr)) * 2 + 3
+    return o, rel, dr, (np.arange(n_rho) - n_rho // 2) * dr
+
+
+def rho_step(points, rho_resolution=None) -> float:
+    """The accumulator's offset step for ``points`` (as ``rhos[1] - rhos[0]``)."""
+    rhos = _rho_grid(np.asarray(points, dtype=float), rho_resolution, None)[3]
+    return float(rhos[1] - rhos[0])

@@ -9,18 +9,16 @@ given to both.
 
 from __future__ import annotations
 
-import time
-
 import numpy as np
 
-from .._validation import check_int, check_positive
-from ..refine import inliers_of, refit_on_inliers
-from ..result import Cluster, ConsensusResult, runner_up_ratio
+from .._validation import check_int
+from ..fitting import fit
+from ..registry import Strategy, register_strategy
+from ..result import Cluster, Consensus, ConsensusResult, runner_up_ratio
 from ..spaces.base import HypothesisSet
-from ..spaces.sampling import generate_hypotheses
 from .peaks import sparse_peaks
 
-__all__ = ["bin_hypotheses", "randomized_hough"]
+__all__ = ["bin_hypotheses", "randomized_hough", "run_randomized_hough"]
 
 
 def bin_hypotheses(manifold, models, cell_size, base_point=None, *, coordinates=None,
@@ -73,28 +71,51 @@ def bin_hypotheses(manifold, models, cell_size, base_point=None, *, coordinates=
     return cells, counts, cell_of.reshape(-1)
 
 
-def randomized_hough(space, data, *, hypotheses: HypothesisSet | None = None,
-                     n_hypotheses: int = 1000, cell_size, base_point=None,
-                     coordinates=None, periods=None, recentre: bool = True,
-                     num_peaks: int = 5, min_distance: int = 1,
-                     residual_threshold: float | None = None, refit: bool = True,
-                     rng=None) -> ConsensusResult:
-    """Vote hypotheses into grid cells and return the fullest cells.
+def randomized_hough(space, data, **options) -> ConsensusResult:
+    """Randomized Hough: :func:`~clap_unified.fit` with ``method="randomized_hough"``.
+
+    Its own options are documented at :func:`run_randomized_hough`.
+
+    Examples
+    --------
+    >>> from clap_unified.spaces import LineSpace
+    >>> rng = np.random.default_rng(0)
+    >>> x = rng.uniform(-5, 5, 80)
+    >>> pts = np.c_[x, 0.5 * x + 1 + rng.normal(0, 0.01, 80)]
+    >>> pts[:40] = rng.uniform(-5, 5, (40, 2))
+    >>> res = randomized_hough(LineSpace.for_data(pts), pts, threshold=0.05, cell_size=0.1,
+    ...                        rng=0)
+    >>> res.success, res.n_inliers >= 40
+    (True, True)
+    """
+    return fit(space, data, "randomized_hough", **options)
+
+
+def run_randomized_hough(space, data, hypotheses: HypothesisSet, *, threshold: float,
+                         prior=None, radius=None, rng=None, n_hypotheses: int = 0,
+                         cell_size=None, base_point=None, coordinates=None, periods=None,
+                         recentre: bool = True, num_peaks: int = 5,
+                         min_distance: int = 1) -> Consensus:
+    """The randomized Hough strategy: vote hypotheses into grid cells, the fullest wins.
 
     Parameters
     ----------
     space : HypothesisSpace
-    data : array_like
-    hypotheses : HypothesisSet, optional
-        Bin these; otherwise ``n_hypotheses`` are generated.
-    cell_size : float or array_like of shape (d,)
+    data : ndarray
+        Checked data (unused: the vote is in hypothesis space).
+    hypotheses : HypothesisSet
+    threshold, prior, radius, rng, n_hypotheses
+        Unused here (see :func:`~clap_unified.fit`).
+    cell_size : float or array_like of shape (d,), optional
         Cell edge in the manifold's weighted tangent coordinates (the same
-        units as its distance), or per coordinate.
+        units as its distance), or per coordinate. Default
+        ``space.default_cell_size(data)``.
     base_point : ndarray, optional
         Where the chart is taken; default the manifold's reference point.
     coordinates : callable, optional
         Bin ``coordinates(models)`` (shape ``(H, d)``) instead of the log
-        chart, e.g. ``SE2.to_xytheta`` for an ``(x, y, theta)`` grid.
+        chart. Default: the space's own grid (``space.hough_grid()``, e.g.
+        ``(x, y, theta)`` for planar poses) when it declares ``grid``.
     periods : sequence of float or None, optional
         Periods of the ``coordinates`` (see :func:`bin_hypotheses`).
     recentre : bool
@@ -103,35 +124,28 @@ def randomized_hough(space, data, *, hypotheses: HypothesisSet | None = None,
         (log chart only).
     num_peaks, min_distance : int
         Peaks to report and their separation in cells.
-    residual_threshold : float, optional
-    refit : bool
-    rng : None, int or numpy.random.Generator
 
     Returns
     -------
-    ConsensusResult
+    Consensus
         The estimate is the mean of the hypotheses in the best cell.
     """
-    t0 = time.perf_counter()
-    data = space.check_data(data)
+    if coordinates is None and space.capabilities.grid:
+        coordinates, grid_periods = space.hough_grid()
+        periods = grid_periods if periods is None else periods
+    if cell_size is None:
+        cell_size = space.default_cell_size(data)
     cell = np.asarray(cell_size, dtype=float)
     if cell.ndim > 1 or not np.all(np.isfinite(cell)) or np.any(cell <= 0):
         raise ValueError(f"cell_size: expected a positive number or a 1D array of them, "
                          f"got {cell_size!r}")
     cell = float(cell) if cell.ndim == 0 else cell
     num_peaks = check_int(num_peaks, "num_peaks", minimum=1)
-    t = (space.default_residual_threshold(data) if residual_threshold is None
-         else check_positive(residual_threshold, "residual_threshold"))
-    if hypotheses is None:
-        hypotheses = generate_hypotheses(space, data, n_hypotheses, rng=rng)
     models = hypotheses.models
     manifold = space.manifold
-    n, h = len(data), len(models)
-    diag = {"hypotheses": h, "cell_size": cell, "residual_threshold": t}
+    h = len(models)
+    diag = {"cell_size": cell}
     half_cell = float(np.max(cell)) / 2
-    if h == 0:
-        diag["seconds"] = time.perf_counter() - t0
-        return ConsensusResult.failure("randomized_hough", "no hypotheses", n, h, space, **diag)
 
     def vote(base):
         cells, counts, cell_of = bin_hypotheses(manifold, models, cell, base,
@@ -150,13 +164,12 @@ def randomized_hough(space, data, *, hypotheses: HypothesisSet | None = None,
         clusters.append(Cluster(centre, int(counts[p]), half_cell, members))
     diag["occupied_cells"] = len(cells)
     diag["runner_up_ratio"] = runner_up_ratio(clusters)
-    model = clusters[0].model
-    if refit:
-        model, inliers = refit_on_inliers(space, model, data, t)
-    else:
-        inliers = inliers_of(space, model, data, t)
     support = np.zeros(h, bool)
     support[clusters[0].members] = True
-    diag["seconds"] = time.perf_counter() - t0
-    return ConsensusResult("randomized_hough", True, "ok", model, inliers, support,
-                           float(clusters[0].support), clusters, diag, space)
+    return Consensus(clusters[0].model, tuple(clusters), support,
+                     float(clusters[0].support), "ok", diag)
+
+
+register_strategy(Strategy(
+    "randomized_hough", run_randomized_hough,
+    summary="hypotheses vote into cells of a grid; the fullest cell wins"))

@@ -1,5 +1,5 @@
 """RANSAC: hypotheses scored by consensus in data space."""
 
-from .ransac import ransac, required_trials, score_hypotheses
+from .ransac import ransac, required_trials, run_ransac, score_hypotheses
 
-__all__ = ["ransac", "required_trials", "score_hypotheses"]
+__all__ = ["ransac", "required_trials", "run_ransac", "score_hypotheses"]

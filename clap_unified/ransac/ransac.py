@@ -4,21 +4,23 @@ Every hypothesis is checked against every datum; the one with the best score
 (inlier count, or the MSAC truncated quadratic cost) wins and is refitted on
 its inliers. A fixed budget reproduces the paper's baseline (1000 samples);
 ``confidence`` turns on the classical adaptive stopping rule.
+
+:func:`run_ransac` is the strategy registered as ``"ransac"``; :func:`ransac`
+is :func:`~clap_unified.fit` with that method.
 """
 
 from __future__ import annotations
 
-import time
-
 import numpy as np
 
-from .._validation import as_generator, check_choice, check_fraction, check_int, check_positive
-from ..refine import inliers_of, refit_on_inliers
-from ..result import Cluster, ConsensusResult
+from .._validation import as_generator, check_choice, check_fraction, check_int
+from ..fitting import fit
+from ..registry import Strategy, register_strategy
+from ..result import Cluster, Consensus, ConsensusResult
 from ..spaces.base import HypothesisSet
 from ..spaces.sampling import sample_subsets
 
-__all__ = ["ransac", "required_trials", "score_hypotheses"]
+__all__ = ["ransac", "required_trials", "run_ransac", "score_hypotheses"]
 
 
 def required_trials(inlier_ratio: float, sample_size: int, confidence: float) -> float:
@@ -50,38 +52,11 @@ def score_hypotheses(residuals, threshold: float, score: str = "inliers") -> np.
     return -np.sum(np.minimum(residuals**2, threshold**2), axis=1)
 
 
-def ransac(space, data, *, hypotheses: HypothesisSet | None = None, max_trials: int = 1000,
-           residual_threshold: float | None = None, score: str = "inliers",
-           confidence: float | None = None, refit: bool = True, batch_size: int = 100,
-           rng=None) -> ConsensusResult:
-    """Random sample consensus over a hypothesis space.
+def ransac(space, data, **options) -> ConsensusResult:
+    """RANSAC: :func:`~clap_unified.fit` with ``method="ransac"``.
 
-    Parameters
-    ----------
-    space : HypothesisSpace
-    data : array_like
-        Data in the space's format, e.g. points ``(N, 2)`` for lines.
-    hypotheses : HypothesisSet, optional
-        Score these (in order) instead of drawing new samples; lets RANSAC run
-        on exactly the hypotheses given to Hough and CLAP.
-    max_trials : int
-        Minimal samples drawn (the paper's baseline: 1000). With
-        ``hypotheses`` it caps how many of them are scored.
-    residual_threshold : float, optional
-        Inlier threshold in data units; default ``space.default_residual_threshold``.
-    score : {"inliers", "msac"}
-    confidence : float in (0, 1), optional
-        Stop early once this probability of having drawn an all-inlier
-        sample is reached (adaptive RANSAC). ``None`` = fixed budget.
-    refit : bool
-        Refit the winner on its inliers (least squares).
-    batch_size : int
-        Samples solved and scored together (vectorised).
-    rng : None, int or numpy.random.Generator
-
-    Returns
-    -------
-    ConsensusResult
+    ``n_hypotheses`` is the trial budget (the paper's baseline: 1000); RANSAC's
+    own options are documented at :func:`run_ransac`.
 
     Examples
     --------
@@ -90,27 +65,63 @@ def ransac(space, data, *, hypotheses: HypothesisSet | None = None, max_trials: 
     >>> x = rng.uniform(-5, 5, 60)
     >>> pts = np.c_[x, 0.5 * x + 1 + rng.normal(0, 0.01, 60)]
     >>> pts[:20] = rng.uniform(-5, 5, (20, 2))
-    >>> res = ransac(LineSpace(), pts, residual_threshold=0.05, rng=0)
+    >>> res = ransac(LineSpace(), pts, threshold=0.05, rng=0)
     >>> res.success, res.n_inliers >= 40
     (True, True)
     """
-    t0 = time.perf_counter()
-    data = space.check_data(data)
-    max_trials = check_int(max_trials, "max_trials", minimum=1)
+    return fit(space, data, "ransac", **options)
+
+
+def run_ransac(space, data, hypotheses: HypothesisSet | None, *, threshold: float, prior=None,
+               radius=None, rng=None, n_hypotheses: int = 1000, score: str = "inliers",
+               confidence: float | None = None, batch_size: int = 100) -> Consensus:
+    """The RANSAC strategy: the hypothesis with the best score in data space.
+
+    Parameters
+    ----------
+    space : HypothesisSpace
+    data : ndarray
+        Checked data in the space's format.
+    hypotheses : HypothesisSet or None
+        Score these, in order (at most ``n_hypotheses`` of them); ``None``
+        draws minimal samples lazily, ``batch_size`` at a time.
+    threshold : float
+        Inlier threshold in data units.
+    prior, radius
+        Unused (with a prior, :func:`~clap_unified.fit` hands over only the
+        hypotheses near it).
+    rng : numpy.random.Generator
+        Draws the minimal samples when no hypotheses are given.
+    n_hypotheses : int
+        Trial budget: minimal samples drawn, or hypotheses scored.
+    score : {"inliers", "msac"}
+        Inlier count, or minus the truncated quadratic cost.
+    confidence : float in (0, 1), optional
+        Stop early once this probability of having drawn an all-inlier
+        sample is reached (adaptive RANSAC). ``None`` = fixed budget.
+    batch_size : int
+        Samples solved and scored together (vectorised).
+
+    Returns
+    -------
+    Consensus
+        The best hypothesis; ``diagnostics`` counts trials, hypotheses scored
+        and degenerate samples.
+    """
     check_choice(score, "score", {"inliers", "msac"})
     batch_size = check_int(batch_size, "batch_size", minimum=1)
     if confidence is not None:
         confidence = check_fraction(confidence, "confidence", inclusive=(False, False))
-    t = (space.default_residual_threshold(data) if residual_threshold is None
-         else check_positive(residual_threshold, "residual_threshold"))
+    t = threshold
     g = as_generator(rng)
     n, m = len(data), space.min_samples
+    budget = n_hypotheses
 
     best_score, best_model, best_index, best_count = -np.inf, None, -1, 0
     drawn = scored = degenerate = 0
-    needed = float(max_trials)
-    while drawn < min(needed, max_trials):
-        k = int(min(batch_size, max_trials - drawn))
+    needed = float(budget)
+    while drawn < min(needed, budget):
+        k = int(min(batch_size, budget - drawn))
         if hypotheses is not None:
             if drawn >= len(hypotheses):
                 break
@@ -133,26 +144,30 @@ def ransac(space, data, *, hypotheses: HypothesisSet | None = None, max_trials: 
             needed = required_trials(best_count / n, m, confidence)
 
     diag = {"trials": drawn, "hypotheses_scored": scored, "degenerate_samples": degenerate,
-            "residual_threshold": t, "score_kind": score}
-    n_hyp = len(hypotheses) if hypotheses is not None else 0
+            "score_kind": score}
     if best_model is None:
-        diag["seconds"] = time.perf_counter() - t0
-        return ConsensusResult.failure("ransac", "every minimal sample was degenerate", n, n_hyp,
-                                       space, **diag)
-    model = best_model
-    if refit:
-        model, inliers = refit_on_inliers(space, model, data, t)
-    else:
-        inliers = inliers_of(space, model, data, t)
-    if np.count_nonzero(inliers) < m:
-        diag["seconds"] = time.perf_counter() - t0
-        return ConsensusResult.failure("ransac", f"best model has fewer than {m} inliers", n,
-                                       n_hyp, space, **diag)
+        return Consensus.failed("every minimal sample was degenerate", **diag)
+    diag["best_hypothesis"] = best_index
+    n_hyp = len(hypotheses) if hypotheses is not None else 0
     support = np.zeros(n_hyp, bool)
+    members = np.empty(0, np.intp)
     if n_hyp:
         support[best_index] = True
-    diag["seconds"] = time.perf_counter() - t0
-    diag["best_hypothesis"] = best_index
-    cluster = Cluster(model, int(np.count_nonzero(inliers)), 0.0, np.array([best_index]))
-    return ConsensusResult("ransac", True, "ok", model, inliers, support, best_score,
-                           [cluster], diag, space)
+        members = np.array([best_index])
+    cluster = Cluster(best_model, best_count, 0.0, members)
+    return Consensus(best_model, (cluster,), support, best_score, "ok", diag)
+
+
+def _finish(space, data, model, inliers, threshold, consensus):
+    """Score the returned (refined) model again; fewer than a minimal sample of inliers fails."""
+    m = space.min_samples
+    if np.count_nonzero(inliers) < m:
+        return 0.0, f"best model has fewer than {m} inliers"
+    kind = consensus.diagnostics["score_kind"]
+    r = space.residuals(np.asarray(model)[None], data)
+    return float(score_hypotheses(r, threshold, kind)[0]), "ok"
+
+
+register_strategy(Strategy(
+    "ransac", run_ransac, draws_samples=True, finish=_finish,
+    summary="the hypothesis with the most inliers (or best MSAC score) in data space"))

@@ -13,14 +13,53 @@ models against many data at once, ``(H, N)``.
 
 from __future__ import annotations
 
+import dataclasses
 from abc import ABC, abstractmethod
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from ..geometry.base import Manifold
+from ..refine import inliers_of, refit_on_inliers
 
-__all__ = ["HypothesisSpace", "HypothesisSet"]
+__all__ = ["Capabilities", "HypothesisSpace", "HypothesisSet"]
+
+
+@dataclass(frozen=True)
+class Capabilities:
+    """The optional abilities of a hypothesis space, declared in one place.
+
+    Strategies and :func:`~clap_unified.fit` read these flags; nothing probes
+    a space for methods. Every space has the protocol's required methods and
+    the defaults of :class:`HypothesisSpace`; the flags say where a space
+    does more.
+
+    Attributes
+    ----------
+    prior_hypotheses : bool
+        :meth:`HypothesisSpace.hypotheses` uses a prior: given one, it builds
+        only the candidates of the data association the prior implies
+        (local mode of the localization spaces).
+    local_refit : bool
+        :meth:`HypothesisSpace.refit_steps` shares work between the inlier
+        test and the refit (the data-to-map association computed for the
+        inliers is the one the refit needs).
+    split_mean : bool
+        The manifold averages its parts apart (rotation and translation):
+        CLAP's ``centre="split"``.
+    chordal_embedding : bool
+        The manifold embeds its points in a Euclidean space whose distance
+        bounds its own: CLAP's ``prune`` counts neighbours with a k-d tree.
+    grid : bool
+        :meth:`HypothesisSpace.hough_grid` gives coordinates of its own for
+        the randomized Hough grid (otherwise the manifold's log chart).
+    """
+
+    prior_hypotheses: bool = False
+    local_refit: bool = False
+    split_mean: bool = False
+    chordal_embedding: bool = False
+    grid: bool = False
 
 
 @dataclass(frozen=True)
@@ -73,6 +112,17 @@ class HypothesisSpace(ABC):
     model_shape: tuple
     #: Short name used in results and the command line.
     name: str = "space"
+    #: What this space can do beyond the protocol (see :class:`Capabilities`).
+    #: The manifold's flags (``split_mean``, ``chordal_embedding``) are added
+    #: by :attr:`capabilities`.
+    declared: Capabilities = Capabilities()
+
+    @property
+    def capabilities(self) -> Capabilities:
+        """The space's declared capabilities with its manifold's."""
+        m = self.manifold
+        return dataclasses.replace(self.declared, split_mean=m.has_split_mean,
+                                   chordal_embedding=m.has_chordal_embedding)
 
     @property
     @abstractmethod
@@ -117,6 +167,63 @@ class HypothesisSpace(ABC):
         """A JSON-friendly description of one model."""
         return {"model": np.asarray(model).tolist()}
 
-    def default_residual_threshold(self, data: np.ndarray) -> float:
-        """A residual threshold for inliers when the user gives none."""
-        raise ValueError(f"residual_threshold: no default for the {self.name} space; pass one")
+    def default_threshold(self, data: np.ndarray) -> float:
+        """An inlier threshold (data units) when the user gives none."""
+        raise ValueError(f"threshold: no default for the {self.name} space; pass one")
+
+    # -- defaults of the optional parts; a space overrides them and says so in `declared`
+
+    def hypotheses(self, data: np.ndarray, n: int, *, rng=None, prior=None, radius=None,
+                   **sampling) -> HypothesisSet:
+        """Candidate models from minimal samples of ``data`` (``n`` wanted).
+
+        The default draws uniform random minimal samples
+        (:func:`~clap_unified.spaces.generate_hypotheses`, every subset when
+        there are few). A space with ``prior_hypotheses`` uses ``prior`` and
+        ``radius``; others ignore them. ``sampling`` holds space-specific
+        sampling options (e.g. the match quality of homographies).
+        """
+        from .sampling import generate_hypotheses
+
+        if sampling:
+            raise ValueError(f"sampling: the {self.name} space takes no sampling options, "
+                             f"got {sorted(sampling)}")
+        return generate_hypotheses(self, data, n, rng=rng)
+
+    def near_prior(self, prior, models, radius) -> np.ndarray:
+        """Boolean mask of the ``models`` within ``radius`` of ``prior`` (the local gate)."""
+        return self.manifold.distance(prior, models) <= radius
+
+    def inliers(self, model, data: np.ndarray, threshold: float) -> np.ndarray:
+        """Boolean mask of the data whose residual to ``model`` is below ``threshold``."""
+        return inliers_of(self, model, data, threshold)
+
+    def refit_steps(self, data: np.ndarray, threshold: float):
+        """Two functions, ``inliers(model)`` and ``refit(inliers, model)``, for refinement.
+
+        The default is the plain route: :meth:`inliers` and
+        ``refit(data[inliers], initial=model)``. A space with ``local_refit``
+        shares work between them.
+        """
+        def inliers(model):
+            return inliers_of(self, model, data, threshold)
+
+        def refit(inl, model):
+            return self.refit(data[inl], initial=model)
+
+        return inliers, refit
+
+    def refine(self, model, data: np.ndarray, threshold: float):
+        """The space's one refinement route: ``(model, inliers)`` after local optimisation.
+
+        The default refits on the inliers (:func:`~clap_unified.refine.refit_on_inliers`).
+        """
+        return refit_on_inliers(self, model, data, threshold)
+
+    def hough_grid(self):
+        """``(coordinates, periods)`` for the randomized Hough grid, or ``None`` (log chart)."""
+        return None
+
+    def default_cell_size(self, data: np.ndarray):
+        """Randomized Hough cell edge when the user gives none: twice the default threshold."""
+        return 2.0 * self.default_threshold(data)

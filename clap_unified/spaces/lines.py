@@ -97,7 +97,7 @@ class LineSpace(HypothesisSpace):
         normal, offset = Line2D.normal_offset(model)
         return {"normal": [float(normal[0]), float(normal[1])], "offset": float(offset)}
 
-    def default_residual_threshold(self, data) -> float:
+    def default_threshold(self, data) -> float:
         # 2 % of the data's RMS radius: a scale-free default; pass a value for real units.
         centre = data.mean(axis=0)
         radius = float(np.sqrt(np.mean(np.sum((data - centre) ** 2, axis=1))))

@@ -1,0 +1,294 @@
+"""``fit``: the one entry point, and ``compare``: several strategies on one hypothesis set.
+
+Data flow of :func:`fit`::
+
+    data --space.check_data--> checked data
+         --space.hypotheses--> HypothesisSet          (unless given, or not used)
+         --space.near_prior--> the hypotheses near the prior (with ``prior``)
+         --strategy.run------> Consensus              (where the consensus is)
+         --space.refine------> model, inliers         (local optimisation)
+         --strategy.finish---> score                  (of the returned model)
+         --> ConsensusResult (frozen)
+
+Every application (lines, 2D and 3D localization, homographies, stitching)
+and every command of the CLI goes through :func:`fit`.
+"""
+
+from __future__ import annotations
+
+import inspect
+import time
+
+import numpy as np
+
+from ._validation import as_generator, check_int, check_positive
+from .registry import get_strategy
+from .result import ConsensusResult
+from .spaces.base import HypothesisSet, HypothesisSpace
+from .spaces.lines import LineSpace
+
+__all__ = ["compare", "fit", "fit_line"]
+
+#: Arguments :func:`fit` gives every strategy's ``run``; the rest are its options.
+COMMON = ("threshold", "prior", "radius", "rng", "n_hypotheses")
+
+
+def fit(space, data, method: str = "clap", *, n_hypotheses: int = 1000,
+        threshold: float | None = None, rng=None, hypotheses: HypothesisSet | None = None,
+        prior=None, radius=None, refine: bool = True, sampling: dict | None = None,
+        **options) -> ConsensusResult:
+    """Robust estimate of one model of ``space`` from ``data`` by the strategy ``method``.
+
+    Parameters
+    ----------
+    space : HypothesisSpace
+        The model family (lines, homographies, poses...).
+    data : array_like
+        Data in the space's format (``space.check_data``).
+    method : str
+        A registered strategy (:func:`~clap_unified.registry.strategy_names`):
+        ``"clap"``, ``"ransac"``, ``"randomized_hough"``, and, where they
+        apply, ``"hough"`` (lines), OpenCV's and Open3D's estimators.
+    n_hypotheses : int
+        The hypothesis budget: hypotheses generated (CLAP, randomized Hough),
+        minimal samples drawn or hypotheses scored (RANSAC).
+    threshold : float, optional
+        Inlier threshold in data units; default the space's (or strategy's).
+    rng : None, int or numpy.random.Generator
+        The seed: the same seed gives the same result, bit for bit.
+    hypotheses : HypothesisSet, optional
+        Use these instead of generating them (to compare strategies on
+        identical hypotheses).
+    prior : model, optional
+        A previous estimate. Only hypotheses within ``radius`` of it are used
+        (``space.near_prior``); CLAP then runs in local mode. A space that
+        declares ``prior_hypotheses`` also builds its hypotheses from the data
+        association the prior implies.
+    radius : float (or what the space's ``near_prior`` accepts), optional
+        The gate around ``prior``; required with it.
+    refine : bool
+        Refine the consensus model on its data inliers (``space.refine``)
+        before the result is built.
+    sampling : dict, optional
+        Space-specific options of hypothesis generation (e.g. ``quality`` of
+        homography matches for progressive sampling).
+    **options
+        The strategy's own options (e.g. ``bandwidth`` for CLAP,
+        ``cell_size`` for randomized Hough, ``score`` for RANSAC).
+
+    Returns
+    -------
+    ConsensusResult
+        Frozen. ``diagnostics["seconds"]`` is the wall time of the call,
+        ``diagnostics["generation_seconds"]`` the part spent generating
+        hypotheses.
+
+    Raises
+    ------
+    ValueError
+        Naming the argument: unknown method, method not for this space,
+        bad data, threshold, budget or option. A degenerate problem is not
+        an error: it gives ``success=False`` with a reason.
+
+    Examples
+    --------
+    >>> rng = np.random.default_rng(0)
+    >>> x = rng.uniform(-5, 5, 100)
+    >>> pts = np.c_[x, 0.5 * x + 1 + rng.normal(0, 0.01, 100)]
+    >>> pts[:60] = rng.uniform(-5, 5, (60, 2))             # 60 % outliers
+    >>> res = fit(LineSpace.for_data(pts), pts, "clap", threshold=0.05, rng=0)
+    >>> res.success, res.n_inliers >= 40
+    (True, True)
+    >>> fit(LineSpace(), pts, "ransac", threshold=0.05, rng=0).n_inliers >= 40
+    True
+    """
+    t0 = time.perf_counter()
+    if not isinstance(space, HypothesisSpace):
+        raise ValueError(f"space: expected a HypothesisSpace, got {type(space).__name__}")
+    strategy = get_strategy(method, space)
+    _check_options(strategy, options)
+    data = space.check_data(data)
+    n_hypotheses = check_int(n_hypotheses, "n_hypotheses", minimum=1)
+    if threshold is None:
+        threshold = (strategy.default_threshold(space, data, options)
+                     if strategy.default_threshold is not None
+                     else space.default_threshold(data))
+    else:
+        threshold = check_positive(threshold, "threshold")
+    if hypotheses is not None and not isinstance(hypotheses, HypothesisSet):
+        raise ValueError(f"hypotheses: expected a HypothesisSet, got {type(hypotheses).__name__}")
+    if prior is not None:
+        prior = space.manifold.validate(prior, "prior")
+        if prior.shape != tuple(space.model_shape):
+            raise ValueError(f"prior: expected one model of shape {space.model_shape}, "
+                             f"got shape {prior.shape}")
+        if radius is None:
+            raise ValueError("radius: a prior needs a radius (the gate around it)")
+        if np.ndim(radius) == 0:
+            radius = check_positive(radius, "radius")
+    g = as_generator(rng)
+    n = len(data)
+    diag = {}
+    gen = 0.0
+    if not strategy.uses_hypotheses:
+        hypotheses = None
+    elif hypotheses is None and not (strategy.draws_samples and prior is None):
+        t1 = time.perf_counter()
+        hypotheses = space.hypotheses(data, n_hypotheses, rng=g, prior=prior, radius=radius,
+                                      **(sampling or {}))
+        gen = time.perf_counter() - t1
+    elif sampling:
+        raise ValueError("sampling: only used when fit generates the hypotheses")
+    n_hyp = 0 if hypotheses is None else len(hypotheses)
+    candidates, keep = hypotheses, None
+    if prior is not None and hypotheses is not None:
+        keep = np.flatnonzero(space.near_prior(prior, hypotheses.models, radius))
+        candidates = hypotheses.subset(keep)
+        diag["near_prior"] = len(keep)
+
+    def failed(reason, **more):
+        return ConsensusResult.failure(method, reason, n, n_hyp, space, threshold,
+                                       **diag, **more, generation_seconds=gen,
+                                       seconds=time.perf_counter() - t0)
+
+    if candidates is not None and len(candidates) == 0:
+        if prior is not None and n_hyp:
+            return failed(f"no hypothesis within radius {_describe(radius)} of the prior "
+                          f"({n_hyp} generated)")
+        return failed("no hypotheses: every minimal sample was degenerate")
+    consensus = strategy.run(space, data, candidates, threshold=threshold, prior=prior,
+                             radius=radius, rng=g, n_hypotheses=n_hypotheses, **options)
+    diag.update(consensus.diagnostics)
+    if consensus.model is None:
+        return failed(consensus.reason)
+    clusters, support = list(consensus.clusters), consensus.support
+    if keep is not None:  # indices into the candidates -> into the hypotheses
+        clusters = [c.__class__(c.model, c.support, c.spread, keep[c.members])
+                    for c in clusters]
+        support = np.zeros(n_hyp, bool)
+        support[keep[np.flatnonzero(consensus.support)]] = True
+    centre = consensus.model
+    if refine:
+        model, inliers = space.refine(centre, data, threshold)
+    else:
+        model, inliers = centre, space.inliers(centre, data, threshold)
+    score, reason = consensus.score, "ok"
+    if strategy.finish is not None:
+        score, reason = strategy.finish(space, data, model, inliers, threshold, consensus)
+    if reason != "ok":
+        return failed(reason)
+    diag["hypotheses"] = n_hyp
+    diag["generation_seconds"] = gen
+    diag["seconds"] = time.perf_counter() - t0
+    return ConsensusResult(method, True, "ok", model, inliers, support, float(score),
+                           clusters, diag, space, threshold)
+
+
+def _describe(radius) -> str:
+    return f"{radius:g}" if np.ndim(radius) == 0 else str(tuple(float(r) for r in radius))
+
+
+def _check_options(strategy, options) -> None:
+    params = inspect.signature(strategy.run).parameters
+    if any(p.kind is p.VAR_KEYWORD for p in params.values()):
+        return
+    own = [k for k, p in params.items() if p.kind is p.KEYWORD_ONLY and k not in COMMON]
+    for key in options:
+        if key not in own:
+            raise ValueError(f"{key}: not an option of the {strategy.name!r} strategy "
+                             f"(its options: {', '.join(own) or 'none'}; fit's own: "
+                             f"n_hypotheses, threshold, rng, hypotheses, prior, radius, "
+                             f"refine, sampling)")
+
+
+def compare(space, data, *, methods=("randomized_hough", "ransac", "clap"),
+            n_hypotheses: int = 1000, threshold: float | None = None, rng=None,
+            options: dict | None = None, sampling: dict | None = None
+            ) -> dict[str, ConsensusResult]:
+    """Run several strategies through :func:`fit` on the *same* hypotheses, drawn once.
+
+    Parameters
+    ----------
+    space : HypothesisSpace
+    data : array_like
+    methods : sequence of str
+        Registered strategy names that apply to ``space``.
+    n_hypotheses : int
+    threshold : float, optional
+        Same data-space inlier threshold for every strategy.
+    rng : None, int or numpy.random.Generator
+    options : dict, optional
+        Per-method options, e.g. ``{"randomized_hough": {"cell_size": 0.1}}``.
+    sampling : dict, optional
+        Space-specific options of the one hypothesis generation.
+
+    Returns
+    -------
+    dict
+        Method name to :class:`~clap_unified.result.ConsensusResult`; each
+        result's ``diagnostics["seconds"]`` is its own run time and
+        ``diagnostics["generation_seconds"]`` the shared generation time.
+
+    Examples
+    --------
+    >>> rng = np.random.default_rng(0)
+    >>> x = rng.uniform(-5, 5, 100)
+    >>> pts = np.c_[x, 0.5 * x + rng.normal(0, 0.01, 100)]
+    >>> pts[:50] = rng.uniform(-5, 5, (50, 2))
+    >>> out = compare(LineSpace.for_data(pts), pts, threshold=0.05, rng=0,
+    ...               options={"randomized_hough": {"cell_size": 0.1}})
+    >>> {name: r.n_inliers >= 50 for name, r in out.items()}
+    {'randomized_hough': True, 'ransac': True, 'clap': True}
+    """
+    if isinstance(methods, str):
+        methods = (methods,)
+    if not isinstance(space, HypothesisSpace):
+        raise ValueError(f"space: expected a HypothesisSpace, got {type(space).__name__}")
+    strategies = [get_strategy(m, space) for m in methods]
+    n_hypotheses = check_int(n_hypotheses, "n_hypotheses", minimum=1)
+    options = {} if options is None else dict(options)
+    for key in options:
+        if key not in methods:
+            raise ValueError(f"options: {key!r} is not among methods {list(methods)}")
+    data = space.check_data(data)
+    t0 = time.perf_counter()
+    hyps = (space.hypotheses(data, n_hypotheses, rng=as_generator(rng), **(sampling or {}))
+            if any(s.uses_hypotheses for s in strategies) else None)
+    gen = time.perf_counter() - t0
+    out = {}
+    for s in strategies:
+        res = fit(space, data, s.name, n_hypotheses=n_hypotheses, threshold=threshold,
+                  hypotheses=hyps if s.uses_hypotheses else None, rng=rng,
+                  **options.get(s.name, {}))
+        out[s.name] = res.replace(diagnostics={"generation_seconds": gen})
+    return out
+
+
+def fit_line(points, method: str = "clap", *, n_hypotheses: int = 1000,
+             threshold: float | None = None, rng=None, **options) -> ConsensusResult:
+    """Fit one line to 2D points: :func:`fit` in :meth:`LineSpace.for_data(points)`.
+
+    Parameters
+    ----------
+    points : ndarray of shape (N, 2)
+    method : str
+        ``"hough"``, ``"randomized_hough"``, ``"ransac"``, ``"clap"`` or any
+        registered strategy for lines.
+    n_hypotheses : int
+    threshold : float, optional
+        Inlier distance in data units; default 2 % of the data's RMS radius.
+    rng : None, int or numpy.random.Generator
+    **options
+        Passed to :func:`fit`.
+
+    Examples
+    --------
+    >>> pts = np.c_[np.arange(5.0), np.arange(5.0)]
+    >>> res = fit_line(pts, "ransac", rng=0)
+    >>> [round(v, 4) for v in res.space.model_to_dict(res.model)["normal"]]
+    [-0.7071, 0.7071]
+    """
+    space = LineSpace.for_data(points)
+    return fit(space, points, method, n_hypotheses=n_hypotheses, threshold=threshold, rng=rng,
+               **options)
+

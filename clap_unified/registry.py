@@ -1,0 +1,152 @@
+"""The strategy registry: one name, one consensus strategy.
+
+A strategy is a function ``run(space, data, hypotheses, *, threshold, prior,
+radius, rng, **options) -> Consensus`` registered under one name with
+:func:`register_strategy`. :func:`~clap_unified.fit` looks it up by name, so
+adding a strategy is one new module and one registration line; nothing else
+dispatches on strategy names.
+
+Examples
+--------
+A toy strategy that takes the first hypothesis, registered, run and removed:
+
+>>> import numpy as np
+>>> from clap_unified import fit
+>>> from clap_unified.result import Cluster, Consensus
+>>> from clap_unified.spaces import LineSpace
+>>> def first(space, data, hypotheses, **_):
+...     support = np.zeros(len(hypotheses), bool)
+...     support[0] = True
+...     return Consensus(hypotheses.models[0], (Cluster(hypotheses.models[0], 1, 0.0),),
+...                      support, 1.0)
+>>> register_strategy(Strategy("first", first, summary="the first hypothesis"))
+>>> pts = np.c_[np.arange(10.0), 2 * np.arange(10.0)]
+>>> fit(LineSpace(), pts, "first", threshold=0.1, rng=0).n_inliers
+10
+>>> unregister_strategy("first")
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+
+__all__ = ["Strategy", "get_strategy", "load_plugins", "register_strategy", "strategy_names",
+           "unregister_strategy"]
+
+#: Entry-point group of strategies in other packages, loaded when clap_unified is imported:
+#: in their pyproject.toml, ``[project.entry-points."clap_unified.strategies"]``
+#: ``mine = "my_package.my_strategy"`` (a module that calls :func:`register_strategy`).
+ENTRY_POINTS = "clap_unified.strategies"
+
+
+@dataclass(frozen=True)
+class Strategy:
+    """A consensus strategy as :func:`~clap_unified.fit` sees it.
+
+    Attributes
+    ----------
+    name : str
+        The one name it is registered, selected and reported under.
+    run : callable
+        ``run(space, data, hypotheses, *, threshold, prior, radius, rng,
+        n_hypotheses, **options) -> Consensus``. ``data`` is checked by the
+        space, ``threshold`` is a positive float, ``hypotheses`` a
+        :class:`~clap_unified.spaces.HypothesisSet` (``None`` when
+        ``uses_hypotheses`` is False, or when ``draws_samples`` is True and
+        the caller gave none).
+    uses_hypotheses : bool
+        Consensus over hypotheses from minimal samples (CLAP, RANSAC,
+        randomized Hough); False for strategies that read the data only
+        (the classical Hough transform, external estimators).
+    draws_samples : bool
+        The strategy draws its own minimal samples when given no hypotheses
+        (RANSAC's adaptive stopping): :func:`~clap_unified.fit` then does not
+        generate them first.
+    applies_to : tuple of str, optional
+        Names of the spaces it works in (``space.name``); ``None`` for any.
+    finish : callable, optional
+        ``finish(space, data, model, inliers, threshold, consensus) ->
+        (score, reason)`` after refinement: the score of the returned model
+        (e.g. RANSAC counts its inliers again) and ``"ok"`` or why it fails.
+        Without it the consensus score stands.
+    default_threshold : callable, optional
+        ``default_threshold(space, data, options) -> float`` when the caller
+        gives no threshold (default: ``space.default_threshold(data)``).
+    summary : str
+        One line for ``clap-unified strategies`` and the docs.
+    """
+
+    name: str
+    run: Callable
+    uses_hypotheses: bool = True
+    draws_samples: bool = False
+    applies_to: tuple | None = None
+    finish: Callable | None = None
+    default_threshold: Callable | None = None
+    summary: str = ""
+
+    def applies(self, space) -> bool:
+        """Whether this strategy works in ``space``."""
+        return self.applies_to is None or space.name in self.applies_to
+
+
+_REGISTRY: dict[str, Strategy] = {}
+
+
+def register_strategy(strategy: Strategy, *, replace: bool = False) -> Strategy:
+    """Register ``strategy`` under ``strategy.name`` (a name already taken is an error)."""
+    if not isinstance(strategy, Strategy):
+        raise TypeError(f"strategy: expected a Strategy, got {type(strategy).__name__}")
+    if not strategy.name or not strategy.name.replace("_", "").isalnum():
+        raise ValueError(f"strategy: name must be a word of letters, digits and underscores, "
+                         f"got {strategy.name!r}")
+    if strategy.name in _REGISTRY and not replace:
+        raise ValueError(f"strategy: {strategy.name!r} is already registered")
+    _REGISTRY[strategy.name] = strategy
+    return strategy
+
+
+def unregister_strategy(name: str) -> None:
+    """Remove a registered strategy (for tests and plug-ins)."""
+    _REGISTRY.pop(name, None)
+
+
+def strategy_names(space=None) -> tuple[str, ...]:
+    """Registered strategy names, in registration order; with ``space``, those that apply."""
+    return tuple(n for n, s in _REGISTRY.items() if space is None or s.applies(space))
+
+
+def get_strategy(name: str, space=None) -> Strategy:
+    """The strategy registered as ``name``; ``ValueError`` naming ``method`` otherwise."""
+    if not isinstance(name, str) or name not in _REGISTRY:
+        raise ValueError(f"method: expected one of {sorted(_REGISTRY)}, got {name!r}")
+    strategy = _REGISTRY[name]
+    if space is not None and not strategy.applies(space):
+        raise ValueError(f"method: {name!r} works in the {', '.join(strategy.applies_to)} "
+                         f"space(s), not in the {space.name} space; choose one of "
+                         f"{list(strategy_names(space))}")
+    return strategy
+
+
+def load_plugins() -> tuple[str, ...]:
+    """Import the modules other packages declare under :data:`ENTRY_POINTS`.
+
+    Each module registers its strategies when imported, so they are
+    available to :func:`~clap_unified.fit`, :func:`~clap_unified.compare` and
+    the command line like the built-in ones. Returns the names loaded; a
+    plug-in that fails to import is reported as a warning, not an error.
+    """
+    import warnings
+    from importlib.metadata import entry_points
+
+    loaded = []
+    for ep in entry_points(group=ENTRY_POINTS):
+        try:
+            ep.load()
+        except Exception as exc:  # a broken plug-in must not break the library
+            warnings.warn(f"strategy plug-in {ep.name!r} ({ep.value}) failed to load: {exc}",
+                          RuntimeWarning, stacklevel=2)
+        else:
+            loaded.append(ep.name)
+    return tuple(loaded)
