@@ -86,14 +86,14 @@ def main(argv=None) -> None:
     space = LineSpace.for_data(pts)
     t = 3.0 * args.noise
     h = args.hypotheses
-    dr = hough_lines(pts, space=space, residual_threshold=t).diagnostics["rho_resolution"]
+    dr = hough_lines(pts, space=space, threshold=t).diagnostics["rho_resolution"]
 
     methods = {
-        "hough_lines": lambda: hough_lines(pts, space=space, residual_threshold=t).model,
+        "hough_lines": lambda: hough_lines(pts, space=space, threshold=t).model,
         "randomized_hough": lambda: randomized_hough(space, pts, n_hypotheses=h, cell_size=2 * t,
-                                                     residual_threshold=t, rng=1).model,
-        "ransac": lambda: ransac(space, pts, max_trials=h, residual_threshold=t, rng=1).model,
-        "clap": lambda: clap(space, pts, n_hypotheses=h, residual_threshold=t, rng=1).model,
+                                                     threshold=t, rng=1).model,
+        "ransac": lambda: ransac(space, pts, n_hypotheses=h, threshold=t, rng=1).model,
+        "clap": lambda: clap(space, pts, n_hypotheses=h, threshold=t, rng=1).model,
         "skimage.measure.ransac": lambda: skimage_line(pts, t, h, 1),
         "cv2.HoughLinesPointSet": lambda: cv2_line(pts, dr),
     }

@@ -16,6 +16,7 @@ and every command of the CLI goes through :func:`fit`.
 
 from __future__ import annotations
 
+import functools
 import inspect
 import time
 
@@ -188,11 +189,19 @@ def _describe(radius) -> str:
     return f"{radius:g}" if np.ndim(radius) == 0 else str(tuple(float(r) for r in radius))
 
 
-def _check_options(strategy, options) -> None:
-    params = inspect.signature(strategy.run).parameters
+@functools.lru_cache(maxsize=64)
+def _own_options(run) -> tuple[str, ...] | None:
+    """The keyword options of a strategy's ``run`` (``None``: it takes any)."""
+    params = inspect.signature(run).parameters
     if any(p.kind is p.VAR_KEYWORD for p in params.values()):
+        return None
+    return tuple(k for k, p in params.items() if p.kind is p.KEYWORD_ONLY and k not in COMMON)
+
+
+def _check_options(strategy, options) -> None:
+    own = _own_options(strategy.run)
+    if own is None:
         return
-    own = [k for k, p in params.items() if p.kind is p.KEYWORD_ONLY and k not in COMMON]
     for key in options:
         if key not in own:
             raise ValueError(f"{key}: not an option of the {strategy.name!r} strategy "

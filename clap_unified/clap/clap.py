@@ -252,7 +252,7 @@ def _median(values) -> float:
 
 
 def _cluster(manifold, c, models, near, support=None, members=None) -> Cluster:
-    """A cluster centred at ``c`` on ``models[near]`` (``members``: their indices, default ``near``)."""
+    """A cluster centred at ``c`` on ``models[near]`` (``members``: their indices)."""
     d = manifold.distance(c, models[near])
     spread = float(np.median(d)) if len(d) else 0.0
     return Cluster(c, int(len(near) if support is None else support), spread,

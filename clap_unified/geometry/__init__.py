@@ -1,5 +1,6 @@
 """Geometry: the manifolds and Lie groups hypotheses live in.
 
+* :class:`Euclidean`: R^d, flat (input space, plain parameter vectors);
 * :class:`Line2D`: lines in the plane (a chart, not a group);
 * :class:`SE2`, :class:`SE3`: rigid motions;
 * :class:`Homography`: planar homographies (PGL(3) with the ``H33 = 1`` or
@@ -10,6 +11,7 @@
 
 from ._matrix import expm, logm
 from .base import Manifold, MatrixLieGroup
+from .euclidean import Euclidean
 from .homography import Homography, frobenius_distance, lie_distance, normalise_h33
 from .lines import Line2D, canonical_lines, wrap_angle
 from .se2 import SE2
@@ -23,7 +25,7 @@ from .so3 import (
     so3_vee,
 )
 
-__all__ = ["SE2", "SE3", "Homography", "Line2D", "Manifold", "MatrixLieGroup",
+__all__ = ["SE2", "SE3", "Euclidean", "Homography", "Line2D", "Manifold", "MatrixLieGroup",
            "canonical_lines", "expm", "frobenius_distance", "lie_distance", "logm",
            "normalise_h33", "so3_exp", "so3_hat", "so3_left_jacobian",
            "so3_left_jacobian_inverse", "so3_log", "so3_vee", "wrap_angle"]

@@ -164,6 +164,8 @@ def _finish(space, data, model, inliers, threshold, consensus):
     if np.count_nonzero(inliers) < m:
         return 0.0, f"best model has fewer than {m} inliers"
     kind = consensus.diagnostics["score_kind"]
+    if kind == "inliers":  # the inliers are the residuals below the threshold: count them
+        return float(np.count_nonzero(inliers)), "ok"
     r = space.residuals(np.asarray(model)[None], data)
     return float(score_hypotheses(r, threshold, kind)[0]), "ok"
 
