@@ -41,7 +41,8 @@ def test_stitch_writes_panorama_and_json(synthetic_set, tmp_path, capsys, method
     d = json.loads(text)
     assert d["success"] is True and out.is_file()
     assert d["inliers"] >= 0.5 * d["matches"] and d["matches"] > 100
-    H = np.array(d["H"])
+    assert d["method"] == method and d["data"] == d["matches"]
+    H = np.array(d["model"]["H"])
     assert H.shape == (3, 3) and H[2, 2] == 1.0
     assert corner_error(H, synthetic_set.truth.H(1, 2), (640, 480)) < 3.0
     import cv2
@@ -109,15 +110,16 @@ def _matches_csv(tmp_path, sift_pair, outliers=0.4, n=None, seed=0):
     return f, kept_inliers
 
 
-@pytest.mark.parametrize("method", ["clap", "ransac", "hough"])
+@pytest.mark.parametrize("method", ["clap", "ransac", "randomized_hough", "cv2_ransac"])
 def test_fit_homography(synthetic_set, sift_pair, tmp_path, capsys, method):
     f, kept = _matches_csv(tmp_path, sift_pair)
     code, text, err = run(["fit", "homography", str(f), "--method", method, "--seed", "2"],
                           capsys)
     assert code == 0 and err == ""
     d = json.loads(text)
-    assert set(d) >= {"H", "inliers", "success", "seconds"} and d["success"] is True
-    H = np.array(d["H"])
+    assert set(d) >= {"model", "inliers", "success", "seconds", "matches", "threshold"}
+    assert d["success"] is True and d["method"] == method and d["threshold"] == 3.0
+    H = np.array(d["model"]["H"])
     # the ground-truth inliers left among the matches, give or take a few lucky outliers
     assert kept > 100 and H[2, 2] == 1.0 and 0.95 * kept <= d["inliers"] <= 1.05 * kept
     assert corner_error(H, synthetic_set.truth.H(1, 2), (640, 480)) < 2.0

@@ -8,11 +8,9 @@ import pytest
 from clap_unified.geometry import lie_distance
 from clap_unified.geometry.homography_frame import HomographyInFrame
 from clap_unified.imaging import (
-    CLAP_PROTOCOL,
+    PROTOCOLS,
     clap_homography,
     estimate_homography,
-    homography_hypotheses,
-    opencv_homography,
     ransac_homography,
 )
 from clap_unified.imaging.datasets import fetch, load_evd, load_homogr, load_vpg_set
@@ -61,7 +59,7 @@ def test_clap_recovers_ground_truth_with_half_outliers_ransac_beside():
     assert 190 <= res.n_inliers <= 210 and res.diagnostics["hypotheses"] == 400
     # the paper's metric is small for both, and CLAP's own cluster centre (no refit) is close
     assert lie_distance(res.model, H_TRUE) < 1.0
-    raw = clap_homography(data, rng=1, refit=False)
+    raw = clap_homography(data, rng=1, refine=False)
     assert corner_error(raw.model, H_TRUE, SIZE) < 10.0
 
 
@@ -76,7 +74,7 @@ def test_clap_is_deterministic_for_a_seed():
                                               ("medoid", "mad")])
 def test_every_centre_of_the_paper_finds_the_cluster(centre, rejection):
     data = pair_matches(seed=2, outliers=0.4)
-    res = clap_homography(data, centre=centre, rejection=rejection, refit=False, rng=0)
+    res = clap_homography(data, centre=centre, rejection=rejection, refine=False, rng=0)
     assert res.success and corner_error(res.model, H_TRUE, SIZE) < 10.0
 
 
@@ -88,16 +86,44 @@ def test_every_metric_gives_the_same_answer_after_refit(metric):
 
 
 def test_protocol_defaults_are_the_papers():
-    assert CLAP_PROTOCOL == {"n_hypotheses": 400, "rounds": 5, "discard_fraction": 0.2}
+    clap = PROTOCOLS["clap"]
+    assert {k: clap[k] for k in ("n_hypotheses", "rounds", "discard_fraction",
+                                 "bandwidth_quantile", "threshold", "polish")} == {
+        "n_hypotheses": 400, "rounds": 5, "discard_fraction": 0.2, "bandwidth_quantile": 0.02,
+        "threshold": 3.0, "polish": True}
     data = pair_matches(seed=5)
     res = ransac_homography(data, rng=0)
-    assert res.diagnostics["trials"] == 1000
+    assert res.diagnostics["trials"] == 1000 and not res.space.polish
+    assert clap_homography(data, rng=0).space.polish
+    # OpenCV's estimates are reported as OpenCV returns them
+    assert all(not PROTOCOLS[m]["refine"] for m in ("cv2_ransac", "magsac",
+                                                     "usac_ransac_fixed"))
+
+
+def test_polish_is_the_spaces_refinement():
+    """CLAP's protocol = a polishing space; the same fit without polish differs only there."""
+    from clap_unified import fit
+    from clap_unified.imaging.refinement import polish_homography
+    from clap_unified.refine import refit_on_inliers
+
+    data = pair_matches(seed=12)
+    res = clap_homography(data, rng=0)
+    plain = clap_homography(data, rng=0, polish=False)
+    centre = clap_homography(data, rng=0, refine=False).model
+    refit, _ = refit_on_inliers(plain.space, centre, data, 3.0)
+    np.testing.assert_array_equal(plain.model, refit)
+    H, inliers = polish_homography(refit, data, threshold=3.0)
+    np.testing.assert_array_equal(res.model, H)
+    np.testing.assert_array_equal(res.inliers, inliers)
+    space = HomographySpace(polish=True)
+    assert fit(space, data, "ransac", rng=0).space is space and repr(space).endswith(
+        "polish=True)")
 
 
 def test_frame_distances_match_the_exact_lie_distance():
     data = pair_matches(seed=6)
     space = HomographySpace.for_data(data, metric="lie")
-    hs = homography_hypotheses(space, data, 60, rng=0)
+    hs = space.hypotheses(data, 60, rng=0)
     exact = HomographyInFrame(space.manifold.T1, space.manifold.T2, metric="lie", screen=np.inf)
     D = exact.pairwise_distance(hs.models)
     D_screened = space.manifold.pairwise_distance(hs.models)
@@ -125,7 +151,7 @@ def test_progressive_sampling_uses_the_best_matches_first():
     data = pair_matches(seed=7, outliers=0.9)
     quality = np.where(np.arange(len(data)) < 360, 1.0, 0.1)  # the 40 inliers rank first
     space = HomographySpace.for_data(data)
-    hs = homography_hypotheses(space, data, 400, quality=quality, rng=0)
+    hs = space.hypotheses(data, 400, quality=quality, rng=0)
     assert len(hs) == 400 and np.all(hs.samples[:50] >= 360)
     guided = clap_homography(data, quality=quality, rng=0)
     assert corner_error(guided.model, H_TRUE, SIZE) < 2.0
@@ -134,9 +160,10 @@ def test_progressive_sampling_uses_the_best_matches_first():
 def test_opencv_baselines_on_the_same_matches():
     data = pair_matches(seed=8)
     for method, tol in [("cv2_ransac", 2.0), ("magsac", 2.0), ("usac_ransac_fixed", 5.0)]:
-        res = opencv_homography(data, method)
+        res = estimate_homography(data, method)
         assert res.success and corner_error(res.model, H_TRUE, SIZE) < tol
-        assert res.diagnostics["seconds"] > 0
+        assert res.diagnostics["seconds"] > 0 and res.clusters == ()
+        assert res.score == res.diagnostics["opencv_inliers"] > 0.4 * len(data)
 
 
 def test_bad_matches_are_refused_with_a_reason():
@@ -242,7 +269,7 @@ def test_vpg_root_says_where_to_put_the_files(tmp_path, monkeypatch):
 def test_frame_manifold_axioms(metric):
     data = pair_matches(seed=9)
     g = HomographySpace.for_data(data, metric=metric).manifold
-    hs = homography_hypotheses(HomographySpace.for_data(data), data, 30, rng=0)
+    hs = HomographySpace.for_data(data).hypotheses(data, 30, rng=0)
     a, b = hs.models[:10], hs.models[10:20]
     np.testing.assert_allclose(g.distance(a, a), 0.0, atol=1e-9)
     np.testing.assert_allclose(g.distance(a, b), g.distance(b, a), rtol=1e-6, atol=1e-9)
@@ -260,8 +287,8 @@ def test_image_size_frame_clusters_like_the_data_frame():
     space = HomographySpace.for_images(SIZE, SIZE)
     from clap_unified.clap import clap
 
-    res = clap(space, data, hypotheses=homography_hypotheses(space, data, 400, rng=0),
-               bandwidth_quantile=0.02, residual_threshold=3.0)
+    res = clap(space, data, hypotheses=space.hypotheses(data, 400, rng=0),
+               bandwidth_quantile=0.02, threshold=3.0)
     assert corner_error(res.model, H_TRUE, SIZE) < 2.0
     with pytest.raises(ValueError, match="size1"):
         HomographySpace.for_images((0, 480), SIZE)
@@ -271,11 +298,10 @@ def test_progressive_sampling_never_repeats_a_sample():
     """Small first pools (8 matches: 70 subsets) give distinct samples, so no copied support."""
     data = pair_matches(seed=11, outliers=0.5)
     space = HomographySpace.for_data(data)
-    hs = homography_hypotheses(space, data, 400, quality=np.arange(len(data), dtype=float),
-                               rng=0)
+    hs = space.hypotheses(data, 400, quality=np.arange(len(data), dtype=float), rng=0)
     rows = np.sort(hs.samples, axis=1)
     assert len(hs) == 400 and len(np.unique(rows, axis=0)) == 400
     few = data[:10]  # 210 subsets in all: every candidate distinct, fewer than asked
-    hs = homography_hypotheses(HomographySpace.for_data(few), few, 400,
-                               quality=np.arange(10, dtype=float), rng=0)
+    hs = HomographySpace.for_data(few).hypotheses(few, 400, quality=np.arange(10, dtype=float),
+                                                  rng=0)
     assert 150 < len(hs) <= 210 and len(np.unique(np.sort(hs.samples, axis=1), axis=0)) == len(hs)

@@ -1,8 +1,11 @@
 """Images: homography estimation from point matches and image stitching.
 
-* :mod:`.estimate`: CLAP (the paper's protocol), the library's DLT + RANSAC
-  and a randomized Hough on the same candidates; :mod:`.baselines`: OpenCV's
-  ``cv2.RANSAC`` and ``cv2.USAC_MAGSAC`` on the same matches;
+* :mod:`.estimate`: :func:`estimate_homography`, :func:`~clap_unified.fit`
+  in a :class:`~clap_unified.spaces.HomographySpace` with each method's
+  protocol (:data:`PROTOCOLS`): CLAP (the paper's), the library's DLT +
+  RANSAC, a randomized Hough on CLAP's candidates and OpenCV's estimators
+  (:mod:`clap_unified.external.opencv`) on the same matches;
+* :mod:`.refinement`: the reweighted-DLT polish of CLAP's protocol;
 * :mod:`.metrics`: Lie distance to ground truth, corner error, symmetric
   reprojection error;
 * :mod:`.features`: SIFT and the ratio test; :mod:`.stitching`: warping and
@@ -11,17 +14,14 @@
   generator.
 """
 
-from .baselines import OPENCV_METHODS, opencv_homography
 from .estimate import (
-    CLAP_PROTOCOL,
-    METHODS,
+    DEFAULT_PROTOCOL,
+    MIN_MATCHES,
+    PROTOCOLS,
     clap_homography,
     estimate_homography,
-    homography_hypotheses,
-    hough_homography,
     ransac_homography,
 )
 
-__all__ = ["CLAP_PROTOCOL", "METHODS", "OPENCV_METHODS", "clap_homography",
-           "estimate_homography", "homography_hypotheses", "hough_homography",
-           "opencv_homography", "ransac_homography"]
+__all__ = ["DEFAULT_PROTOCOL", "MIN_MATCHES", "PROTOCOLS", "clap_homography",
+           "estimate_homography", "ransac_homography"]

@@ -9,18 +9,19 @@ from __future__ import annotations
 
 import os
 import tempfile
-import time
 from pathlib import Path
 
 import numpy as np
 
 from ..io import read_points_csv
+from ..registry import strategy_names
+from ..spaces.homography import HomographySpace
 from .estimate import MIN_MATCHES, estimate_homography
 
 __all__ = ["fit_homography_command", "register", "stitch_command"]
 
-#: ``--method`` of ``stitch`` -> estimator name.
-STITCH_METHODS = {"clap": "clap", "ransac": "ransac", "magsac": "magsac"}
+#: ``--method`` choices: every registered strategy that works in the homography space.
+METHODS = strategy_names(HomographySpace())
 
 
 def register(sub) -> None:
@@ -29,7 +30,8 @@ def register(sub) -> None:
     p.add_argument("left", help="left image file")
     p.add_argument("right", help="right image file")
     p.add_argument("-o", "--output", required=True, help="panorama file to write (e.g. .png)")
-    p.add_argument("--method", choices=sorted(STITCH_METHODS), default="clap")
+    p.add_argument("--method", choices=METHODS, default="clap",
+                   help="consensus strategy (default clap)")
     p.add_argument("--blend", choices=["none", "overwrite", "feather"], default="feather")
     p.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
     p.add_argument("--ratio", type=float, default=0.75, help="SIFT ratio test (default 0.75)")
@@ -41,7 +43,8 @@ def add_fit_homography(kinds) -> None:
     p = kinds.add_parser("homography",
                          help="fit a homography to MATCHES.csv (rows x1,y1,x2,y2)")
     p.add_argument("matches", help="CSV file, one match per row: x1,y1,x2,y2 (header optional)")
-    p.add_argument("--method", choices=["clap", "ransac", "hough"], default="clap")
+    p.add_argument("--method", choices=METHODS, default="clap",
+                   help="consensus strategy (default clap)")
     p.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
     p.add_argument("--threshold", type=float, default=3.0,
                    help="inlier reprojection error in pixels (default 3)")
@@ -49,27 +52,26 @@ def add_fit_homography(kinds) -> None:
 
 
 def _checked(res, n_matches: int):
+    """``res`` when it is a usable estimate; ``ValueError`` saying why otherwise."""
     if not res.success:
         raise ValueError(f"homography estimate failed ({res.reason})")
     if res.n_inliers < MIN_MATCHES:
         raise ValueError(f"homography estimate failed (only {res.n_inliers} of {n_matches} "
                          f"matches agree with it, fewer than {MIN_MATCHES})")
-    H = np.asarray(res.model, dtype=float)
-    return H / H[2, 2]
+    return res
+
+
+def _too_few(n: int, where: str) -> None:
+    if n < MIN_MATCHES:
+        raise ValueError(f"too few matches {where} ({n}; at least {MIN_MATCHES} are needed)")
 
 
 def fit_homography_command(args) -> dict:
     matches = read_points_csv(args.matches, columns=4, min_rows=1)
-    if len(matches) < MIN_MATCHES:
-        raise ValueError(f"{args.matches}: too few matches ({len(matches)}); at least "
-                         f"{MIN_MATCHES} are needed")
-    t0 = time.perf_counter()
-    res = estimate_homography(matches, args.method, rng=args.seed,
-                              residual_threshold=args.threshold)
-    seconds = time.perf_counter() - t0
-    H = _checked(res, len(matches))
-    return {"H": H.tolist(), "inliers": res.n_inliers, "success": True,
-            "seconds": round(seconds, 6), "method": args.method, "matches": len(matches)}
+    _too_few(len(matches), f"in {args.matches}")
+    res = _checked(estimate_homography(matches, args.method, rng=args.seed,
+                                       threshold=args.threshold), len(matches))
+    return {**res.to_dict(), "matches": len(matches)}
 
 
 def stitch_command(args) -> dict:
@@ -85,14 +87,9 @@ def stitch_command(args) -> dict:
         raise ValueError(f"{out}: OpenCV cannot write images with this extension "
                          "(use .png or .jpg)")
     left, right, matches, quality = match_images(args.left, args.right, ratio=args.ratio)
-    if len(matches) < MIN_MATCHES:
-        raise ValueError(f"too few matches between {args.left} and {args.right} "
-                         f"({len(matches)} pass the ratio test, {MIN_MATCHES} needed)")
-    t0 = time.perf_counter()
-    res = estimate_homography(matches, STITCH_METHODS[args.method], rng=args.seed)
-    seconds = time.perf_counter() - t0
-    H = _checked(res, len(matches))
-    pano = stitch(left, right, H, blend=args.blend)
+    _too_few(len(matches), f"between {args.left} and {args.right} (passing the ratio test)")
+    res = _checked(estimate_homography(matches, args.method, rng=args.seed), len(matches))
+    pano = stitch(left, right, np.asarray(res.model), blend=args.blend)
     # write next to the target, then rename: never a half-written panorama
     fd, tmp = tempfile.mkstemp(suffix=out.suffix or ".png", dir=out.parent)
     os.close(fd)
@@ -107,7 +104,5 @@ def stitch_command(args) -> dict:
     finally:
         if os.path.exists(tmp):
             os.remove(tmp)
-    return {"H": H.tolist(), "matches": len(matches), "inliers": res.n_inliers,
-            "success": True, "method": args.method, "blend": args.blend,
-            "output": str(out), "size": [int(pano.shape[1]), int(pano.shape[0])],
-            "seconds": round(seconds, 6)}
+    return {**res.to_dict(), "matches": len(matches), "blend": args.blend,
+            "output": str(out), "size": [int(pano.shape[1]), int(pano.shape[0])]}

@@ -16,6 +16,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..registry import get_strategy
 from .datasets.homography_benchmarks import HomographyInput, HomographyTruth
 from .estimate import estimate_homography
 from .metrics import corner_error, lie_error, symmetric_reprojection_error
@@ -57,11 +58,12 @@ def evaluate_pair(pair, *, size=None, methods=None, seed: int = 0, repeat: int =
         ``label -> (estimator, uses_quality)``; default :data:`EVALUATED`.
         Ordered variants are skipped when the pair has no quality.
     seed : int
-        Seed of the library's estimators.
+        The seed (``rng``) of every estimator (OpenCV's ignore it).
     repeat : int
         Runs per method; the time is the median.
     options
-        Passed to every library estimator (not to OpenCV).
+        Passed to every estimator that uses hypotheses (the library's, not
+        OpenCV's), e.g. ``n_hypotheses`` and ``bandwidth_quantile``.
 
     Returns
     -------
@@ -93,15 +95,13 @@ def evaluate_pair(pair, *, size=None, methods=None, seed: int = 0, repeat: int =
     for label, (name, ordered) in methods.items():
         if ordered and quality is None:
             continue
-        kw = dict(options) if name in ("clap", "ransac", "hough") else {}
+        kw = dict(options) if get_strategy(name).uses_hypotheses else {}
         if ordered:
             kw["quality"] = quality
-        if name in ("clap", "ransac", "hough"):
-            kw["rng"] = seed
         times, res = [], None
         for _ in range(repeat):
             t0 = time.perf_counter()
-            res = estimate_homography(m, name, **kw)
+            res = estimate_homography(m, name, rng=seed, **kw)
             times.append(time.perf_counter() - t0)
         H = res.model if res.success else None
         if H is not None and gt_inliers.any():

@@ -15,16 +15,9 @@ import numpy as np
 
 from .._validation import check_array, check_points
 from ..geometry.homography import lie_distance
+from ..spaces.homography import symmetric_transfer_error, transfer
 
 __all__ = ["corner_error", "lie_error", "symmetric_reprojection_error", "transfer"]
-
-
-def transfer(H, points) -> np.ndarray:
-    """Map points ``(N, 2)`` by ``H`` (``inf`` where they go to infinity)."""
-    p = np.c_[np.asarray(points, dtype=float), np.ones(len(points))] @ np.asarray(H).T
-    with np.errstate(divide="ignore", invalid="ignore"):
-        q = p[:, :2] / p[:, 2:]
-    return np.where(np.isfinite(q), q, np.inf)
 
 
 def lie_error(H, H_gt) -> float:
@@ -81,26 +74,5 @@ def symmetric_reprojection_error(H, matches) -> np.ndarray:
     m = check_points(matches, "matches", dim=4, min_count=0)
     if H is None:
         return np.full(len(m), np.inf)
-    return _symmetric_error(check_array(H, "H", shape=(3, 3)), m)
+    return symmetric_transfer_error(check_array(H, "H", shape=(3, 3)), m)
 
-
-def _symmetric_error(H, m) -> np.ndarray:
-    """:func:`symmetric_reprojection_error` of checked inputs: both directions in one product.
-
-    The backward map is the adjugate of ``H`` (``det(H) H^-1``: the same
-    transfer, no inverse call); a singular ``H`` gives ``inf`` everywhere.
-    """
-    (a, b, c), (d, e, f), (g, h, i) = H.tolist()
-    adj = [[e * i - f * h, c * h - b * i, b * f - c * e],
-           [f * g - d * i, a * i - c * g, c * d - a * f],
-           [d * h - e * g, b * g - a * h, a * e - b * d]]
-    if a * adj[0][0] + b * adj[1][0] + c * adj[2][0] == 0:
-        return np.full(len(m), np.inf)
-    pts = m.T.reshape(2, 2, -1)  # [[x1, y1], [x2, y2]]
-    both = np.array([H.tolist(), adj])
-    p = both[:, :, :2] @ pts + both[:, :, 2:]  # (2 directions, 3, N)
-    with np.errstate(all="ignore"):
-        dd = p[:, :2] / p[:, 2:] - pts[::-1]
-        dd *= dd
-        out = np.sqrt(0.5 * ((dd[0, 0] + dd[0, 1]) + (dd[1, 0] + dd[1, 1])))
-    return np.where(np.isfinite(out), out, np.inf)

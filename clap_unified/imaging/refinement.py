@@ -19,22 +19,20 @@ from __future__ import annotations
 import numpy as np
 
 from .._validation import check_array, check_int, check_points, check_positive
-from ..spaces.homography import dlt
-from .metrics import _symmetric_error
+from ..spaces.homography import dlt, symmetric_transfer_error, transfer
 
-__all__ = ["polish_homography"]
+__all__ = ["polish_checked", "polish_homography"]
 
 
 def _symmetric_residuals(h, x):
+    """Forward and backward transfer residual vectors of ``H = [h, 1]`` (for least squares)."""
     H = np.append(h, 1.0).reshape(3, 3)
-    p = np.c_[x[:, :2], np.ones(len(x))] @ H.T
-    q = np.c_[x[:, 2:], np.ones(len(x))] @ np.linalg.inv(H).T
-    return np.concatenate([(p[:, :2] / p[:, 2:] - x[:, 2:]).ravel(),
-                           (q[:, :2] / q[:, 2:] - x[:, :2]).ravel()])
+    return np.concatenate([(transfer(H, x[:, :2]) - x[:, 2:]).ravel(),
+                           (transfer(np.linalg.inv(H), x[:, 2:]) - x[:, :2]).ravel()])
 
 
 def _cost(H, x) -> float:
-    return float(np.mean(_symmetric_error(H, x) ** 2))
+    return float(np.mean(symmetric_transfer_error(H, x) ** 2))
 
 
 def polish_homography(H, matches, *, threshold: float = 3.0, irls_iterations: int = 5,
@@ -73,14 +71,19 @@ def polish_homography(H, matches, *, threshold: float = 3.0, irls_iterations: in
     >>> print(f"{before:.2f} px -> {after:.2f} px, {int(inl.sum())} inliers")
     0.98 px -> 0.37 px, 100 inliers
     """
+    return polish_checked(check_array(H, "H", shape=(3, 3)),
+                          check_points(matches, "matches", dim=4, min_count=4),
+                          check_positive(threshold, "threshold"),
+                          irls_iterations=check_int(irls_iterations, "irls_iterations",
+                                                    minimum=0), lm=lm)
+
+
+def polish_checked(H, m, t: float, *, irls_iterations: int = 5, lm: bool = False):
+    """:func:`polish_homography` of checked inputs (``HomographySpace.refine``'s polish)."""
     from scipy.optimize import least_squares
 
-    H = check_array(H, "H", shape=(3, 3))
-    m = check_points(matches, "matches", dim=4, min_count=4)
-    t = check_positive(threshold, "threshold")
-    irls_iterations = check_int(irls_iterations, "irls_iterations", minimum=0)
     H = H / H[2, 2]
-    r = _symmetric_error(H, m)
+    r = symmetric_transfer_error(H, m)
     inl = r < t
     n_inl = np.count_nonzero(inl)
     if n_inl < 4:
@@ -94,7 +97,7 @@ def polish_homography(H, matches, *, threshold: float = 3.0, irls_iterations: in
         if not np.all(np.isfinite(cand)) or abs(cand[2, 2]) < 1e-12:
             break
         cand = cand / cand[2, 2]
-        r_new = _symmetric_error(cand, m)
+        r_new = symmetric_transfer_error(cand, m)
         inl_new = r_new < t
         n_new = np.count_nonzero(inl_new)
         if n_new < max(4, n_inl // 2):
@@ -114,5 +117,5 @@ def polish_homography(H, matches, *, threshold: float = 3.0, irls_iterations: in
         cand = np.append(sol.x, 1.0).reshape(3, 3)
         if np.all(np.isfinite(cand)) and _cost(cand, x) <= best:
             H = cand
-            inl = _symmetric_error(H, m) < t
+            inl = symmetric_transfer_error(H, m) < t
     return H, inl

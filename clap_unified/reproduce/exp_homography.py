@@ -94,9 +94,11 @@ def _lie_over_sets(sets, seed: int, desc: str, size=None, seeds: int = 1):
 def _lie_over_pairs(pairs, seed: int, desc: str, size=None, seeds: int = 1, images=True):
     from ..imaging.evaluation import evaluate_pair
     from ..imaging.features import read_image
+    from ..registry import get_strategy
 
     rows, stability, thumbs = [], [], {}
-    randomized = {k: v for k, v in METHODS.items() if v[0] in ("clap", "ransac")}
+    # the strategies whose estimate depends on the seed: those drawing hypotheses
+    randomized = {k: v for k, v in METHODS.items() if get_strategy(v[0]).uses_hypotheses}
     for k, pm in enumerate(progress(pairs, desc)):
         first = evaluate_pair(pm, size=size, methods=METHODS, seed=seed + k)
         rows += _scored_rows(pm.name, pm.scene, first)
@@ -334,8 +336,7 @@ def run_stitching_real(params: dict, seed: int) -> dict:
         m, _ = sift_matches(a, b)
         errors = {}
         for label, (method, _) in METHODS.items():
-            kw = {"rng": seed + k} if method in ("clap", "ransac") else {}
-            res = estimate_homography(m, method, **kw) if len(m) >= 8 else None
+            res = estimate_homography(m, method, rng=seed + k) if len(m) >= 8 else None
             errors[label] = (symmetric_reprojection_error(res.model, m)
                              if res is not None and res.success else None)
             if label == "CLAP" and name not in thumbs and errors[label] is not None:

@@ -1,20 +1,36 @@
-"""Hypothesis space of planar homographies: four correspondences make one.
+"""Hypothesis space of planar homographies, and the one home of their arithmetic.
 
 Convention: ``x2 ~ H x1`` for correspondences ``(x1, y1, x2, y2)`` (the VPG
-format). Minimal solver: the closed-form 4-point homography in the Hartley
-frame of the data, batched over all samples with cofactors (no per-sample
-solve or inverse). Refits: normalised DLT, from the 9 x 9 normal equations.
-Models are normalised so that ``H[2, 2] = 1``.
+format). Models are normalised so that ``H[2, 2] = 1``.
+
+The arithmetic every homography module uses lives here, once:
+
+* :func:`normalise_points`: Hartley normalisation;
+* :func:`dlt`: the (weighted) normalised direct linear transform, from the
+  9 x 9 normal equations;
+* :func:`four_point_homography`: the closed-form 4-point minimal solver in
+  the Hartley frame of the data, batched with cofactors (no per-sample solve
+  or inverse);
+* :func:`transfer`, :func:`transfer_error`, :func:`symmetric_transfer_error`:
+  points mapped by ``H``, the forward transfer error of many homographies,
+  and the symmetric transfer error (the paper's SRE).
+
+:class:`HomographySpace` draws its hypotheses uniformly or progressively
+(PROSAC-like pools ordered by match quality) and refines a model by a DLT
+refit on its inliers, followed, with ``polish=True``, by a reweighted DLT
+(:func:`~clap_unified.imaging.refinement.polish_homography`).
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from .._validation import check_choice, check_points
-from .base import HypothesisSpace
+from .._validation import as_generator, check_array, check_choice, check_int, check_points
+from ..refine import refit_on_inliers
+from .base import HypothesisSet, HypothesisSpace
 
-__all__ = ["HomographySpace", "dlt", "four_point_homography", "normalise_points"]
+__all__ = ["HomographySpace", "dlt", "four_point_homography", "normalise_points",
+           "symmetric_transfer_error", "transfer", "transfer_error"]
 
 #: Minimal-sample homographies with |det H| / prod_i |row_i| at or below this are rejected.
 SINGULAR_RATIO = 1e-10
@@ -257,6 +273,65 @@ def four_point_homography(src, dst) -> np.ndarray:
     return H / np.linalg.norm(H, axis=(-2, -1), keepdims=True)
 
 
+def transfer(H, points) -> np.ndarray:
+    """Points ``(N, 2)`` mapped by one homography ``H`` (``inf`` where they go to infinity).
+
+    Examples
+    --------
+    >>> transfer(np.diag([2.0, 2.0, 1.0]), np.array([[1.0, 2.0]])).tolist()
+    [[2.0, 4.0]]
+    """
+    p = np.c_[np.asarray(points, dtype=float), np.ones(len(points))] @ np.asarray(H).T
+    with np.errstate(divide="ignore", invalid="ignore"):
+        q = p[:, :2] / p[:, 2:]
+    return np.where(np.isfinite(q), q, np.inf)
+
+
+def transfer_error(H, src, dst) -> np.ndarray:
+    """Forward transfer errors ``||dst - H src||`` of many homographies, shape ``(H, N)``.
+
+    ``H`` is a stack ``(H, 3, 3)``; ``src, dst`` are ``(N, 2)``. A point sent
+    to infinity has error ``inf``.
+    """
+    p = H[:, :, :2] @ src.T + H[:, :, 2:]  # (H, 3, N)
+    with np.errstate(all="ignore"):
+        d = p[:, :2] / p[:, 2:] - dst.T
+        d *= d
+        err = np.sqrt(d[:, 0] + d[:, 1])
+    return np.where(np.isfinite(err), err, np.inf)
+
+
+def symmetric_transfer_error(H, matches) -> np.ndarray:
+    """Symmetric transfer error ``sqrt((|x2 - H x1|^2 + |x1 - H^-1 x2|^2) / 2)`` per match.
+
+    ``H`` is one ``(3, 3)`` homography and ``matches`` a checked ``(N, 4)``
+    array (no validation here: the hot path of the polish and the metrics).
+    The backward map is the adjugate of ``H`` (``det(H) H^-1``: the same
+    transfer, no inverse call), both directions in one product; a singular
+    ``H`` gives ``inf`` everywhere.
+
+    Examples
+    --------
+    >>> scale = np.diag([2.0, 2.0, 1.0])                   # x2 = 2 x1
+    >>> symmetric_transfer_error(scale, np.array([[1.0, 1.0, 2.0, 2.0], [1, 0, 4, 0]])).tolist()
+    [0.0, 1.5811388300841898]
+    """
+    (a, b, c), (d, e, f), (g, h, i) = H.tolist()
+    adj = [[e * i - f * h, c * h - b * i, b * f - c * e],
+           [f * g - d * i, a * i - c * g, c * d - a * f],
+           [d * h - e * g, b * g - a * h, a * e - b * d]]
+    if a * adj[0][0] + b * adj[1][0] + c * adj[2][0] == 0:
+        return np.full(len(matches), np.inf)
+    pts = matches.T.reshape(2, 2, -1)  # [[x1, y1], [x2, y2]]
+    both = np.array([H.tolist(), adj])
+    p = both[:, :, :2] @ pts + both[:, :, 2:]  # (2 directions, 3, N)
+    with np.errstate(all="ignore"):
+        dd = p[:, :2] / p[:, 2:] - pts[::-1]
+        dd *= dd
+        out = np.sqrt(0.5 * ((dd[0, 0] + dd[0, 1]) + (dd[1, 0] + dd[1, 1])))
+    return np.where(np.isfinite(out), out, np.inf)
+
+
 class HomographySpace(HypothesisSpace):
     """Planar homographies from point correspondences ``(x1, y1, x2, y2)``.
 
@@ -267,6 +342,12 @@ class HomographySpace(HypothesisSpace):
         the forward and backward transfer errors (pixels).
     normalization : {"h33", "det"}
         Normalisation of the homography group used for distances.
+    polish : bool
+        :meth:`refine` finishes the DLT refit on the inliers with a
+        reweighted DLT on the symmetric transfer error
+        (:func:`~clap_unified.imaging.refinement.polish_homography`): CLAP's
+        protocol in the paper. Without it (the paper's RANSAC baseline) the
+        refit is the whole refinement.
 
     Notes
     -----
@@ -280,21 +361,26 @@ class HomographySpace(HypothesisSpace):
     model_shape = (3, 3)
     name = "homography"
 
-    def __init__(self, residual: str = "transfer", normalization: str = "h33"):
+    def __init__(self, residual: str = "transfer", normalization: str = "h33", *,
+                 polish: bool = False):
         self.residual = check_choice(residual, "residual", {"transfer", "symmetric"})
         self.normalization = check_choice(normalization, "normalization", {"h33", "det"})
+        if not isinstance(polish, (bool, np.bool_)):
+            raise ValueError(f"polish: expected True or False, got {polish!r}")
+        self.polish = bool(polish)
         self._manifold = None
 
     @classmethod
     def for_data(cls, matches, *, residual: str = "transfer", metric: str = "lie_linear",
-                 normalization: str = "det", screen: float = 1.0) -> HomographySpace:
+                 normalization: str = "det", screen: float = 1.0,
+                 polish: bool = False) -> HomographySpace:
         """A space that compares hypotheses in the normalised frame of ``matches``.
 
         The manifold is a :class:`~clap_unified.geometry.homography_frame.HomographyInFrame`
         with the Hartley normalisations ``T1`` of the source and ``T2`` of the
         destination points: hypotheses are compared as ``T2 H T1^-1`` (entries
         of order one, fast all-pairs distances), while models, residuals and
-        refits stay in pixels.
+        refits stay in pixels. ``polish`` as in the constructor.
 
         Examples
         --------
@@ -308,14 +394,15 @@ class HomographySpace(HypothesisSpace):
 
         data = check_points(matches, "matches", dim=4, min_count=cls.min_samples)
         T1, T2 = normalise_points(data.reshape(-1, 2, 2).transpose(1, 0, 2))[1]
-        space = cls(residual=residual, normalization="h33")
+        space = cls(residual=residual, normalization="h33", polish=polish)
         space._manifold = HomographyInFrame(T1, T2, metric=metric, normalization=normalization,
                                             screen=screen)
         return space
 
     @classmethod
     def for_images(cls, size1, size2, *, residual: str = "transfer", metric: str = "lie_linear",
-                   normalization: str = "det", screen: float = 1.0) -> HomographySpace:
+                   normalization: str = "det", screen: float = 1.0,
+                   polish: bool = False) -> HomographySpace:
         """Like :meth:`for_data`, with the frames fixed by the image sizes instead.
 
         ``T = [[2/w, 0, -1], [0, 2/h, -1], [0, 0, 1]]`` maps each image onto
@@ -335,14 +422,15 @@ class HomographySpace(HypothesisSpace):
                 raise ValueError(f"{name}: expected a positive (width, height), got {size!r}")
             return np.array([[2.0 / w, 0.0, -1.0], [0.0, 2.0 / h, -1.0], [0.0, 0.0, 1.0]])
 
-        space = cls(residual=residual, normalization="h33")
+        space = cls(residual=residual, normalization="h33", polish=polish)
         space._manifold = HomographyInFrame(frame(size1, "size1"), frame(size2, "size2"),
                                             metric=metric, normalization=normalization,
                                             screen=screen)
         return space
 
     def __repr__(self) -> str:
-        return f"HomographySpace(residual={self.residual!r}, normalization={self.normalization!r})"
+        return (f"HomographySpace(residual={self.residual!r}, "
+                f"normalization={self.normalization!r}, polish={self.polish!r})")
 
     @property
     def manifold(self):
@@ -402,29 +490,116 @@ class HomographySpace(HypothesisSpace):
             return None
         return H
 
-    @staticmethod
-    def _transfer(H, src, dst):
-        p = H[:, :, :2] @ src.T + H[:, :, 2:]  # (H, 3, N)
-        with np.errstate(all="ignore"):
-            d = p[:, :2] / p[:, 2:] - dst.T
-            d *= d
-            err = np.sqrt(d[:, 0] + d[:, 1])
-        return np.where(np.isfinite(err), err, np.inf)
-
     def residuals(self, models, data) -> np.ndarray:
         H = np.asarray(models, dtype=float).reshape(-1, 3, 3)
         data = np.asarray(data, dtype=float)
-        fwd = self._transfer(H, data[:, :2], data[:, 2:])
         if self.residual == "transfer":
-            return fwd
-        with np.errstate(all="ignore"):
-            Hinv = np.linalg.inv(H)
-        bwd = self._transfer(Hinv, data[:, 2:], data[:, :2])
-        return np.sqrt(0.5 * (fwd**2 + bwd**2))
+            return transfer_error(H, data[:, :2], data[:, 2:])
+        return np.array([symmetric_transfer_error(h, data) for h in H]).reshape(len(H),
+                                                                                len(data))
 
     def model_to_dict(self, model) -> dict:
         H = np.asarray(model, dtype=float)
         return {"H": (H / H[2, 2]).tolist()}
 
-    def default_residual_threshold(self, data) -> float:
+    def default_threshold(self, data) -> float:
         return 3.0  # pixels, OpenCV's default ransacReprojThreshold
+
+    def default_cell_size(self, data) -> float:
+        """Randomized Hough cell edge: 0.05 in the space's (normalised-frame) log chart."""
+        return 0.05
+
+    def hypotheses(self, data, n, *, rng=None, prior=None, radius=None, quality=None,
+                   pools: int = 8, min_pool: int = 8) -> HypothesisSet:
+        """Candidate homographies from 4-match samples, uniform or progressive.
+
+        Parameters
+        ----------
+        data : ndarray of shape (N, 4)
+            Checked matches.
+        n : int
+            Candidates wanted.
+        rng : None, int or numpy.random.Generator
+        prior, radius
+            Ignored: homography hypotheses do not depend on a prior.
+        quality : ndarray of shape (N,), optional
+            Lower is better (e.g. the SIFT ratio of each match). Without it,
+            uniform random samples (one batch with a margin for degenerate
+            ones). With it, progressive sampling as in PROSAC: the ``n``
+            draws are split into ``pools`` groups drawn from the best
+            ``m_1 < m_2 < ... = N`` matches (geometrically growing, the first
+            ``min_pool``); no 4-subset is drawn twice (a small pool may then
+            give fewer candidates).
+        pools, min_pool : int
+
+        Returns
+        -------
+        HypothesisSet
+
+        Examples
+        --------
+        >>> rng = np.random.default_rng(0)
+        >>> src = rng.uniform(0, 640, (60, 2))
+        >>> data = np.c_[src, src + 5.0]
+        >>> hs = HomographySpace().hypotheses(data, 40, quality=np.arange(60), rng=0)
+        >>> len(hs), int(hs.samples[:5].max()) < 8
+        (40, True)
+        """
+        from .sampling import generate_hypotheses, sample_subsets
+
+        n = check_int(n, "n", minimum=1)
+        if quality is None:
+            # one batch with a margin for degenerate samples, not a second full batch
+            return generate_hypotheses(self, data, n, rng=rng, batch_size=n + n // 4 + 8)
+        q = check_array(quality, "quality", shape=(len(data),))
+        pools = check_int(pools, "pools", minimum=1)
+        order = np.argsort(q, kind="stable")
+        sizes = np.unique(np.geomspace(min(max(min_pool, 4), len(data)), len(data), pools)
+                          .round().astype(int))
+        per = np.diff(np.linspace(0, n, len(sizes) + 1).round().astype(int))
+        g = as_generator(rng)
+        models, samples = [], []
+        drawn = bad = 0
+        seen = set()
+        for size, k in zip(sizes, per, strict=True):
+            if k == 0:
+                continue
+            # distinct samples only: the first pools are small (8 matches have 70
+            # 4-subsets), and a repeated sample would add a copy of a candidate,
+            # support that no new data gives (and exact ties between clusters)
+            idx = []
+            for _ in range(8):
+                # a few extra draws so degenerate samples do not leave the pool short
+                for row in np.sort(order[sample_subsets(int(size), 4, int(k) + 8, rng=g)],
+                                   axis=1):
+                    key = row.tobytes()
+                    if key not in seen and len(idx) < k + 8:
+                        seen.add(key)
+                        idx.append(row)
+                if len(idx) >= k + 8:
+                    break
+            if not idx:
+                continue
+            idx = np.array(idx)
+            mod, owner = self.solve_minimal(data, idx)
+            drawn += len(idx)
+            bad += len(idx) - len(owner)
+            models.append(mod[:k])
+            samples.append(idx[owner[:k]])
+        models = np.concatenate(models) if models else np.empty((0, 3, 3))
+        samples = np.concatenate(samples) if samples else np.empty((0, 4), dtype=np.intp)
+        return HypothesisSet(models, samples, drawn, bad, False, self)
+
+    def refine(self, model, data, threshold):
+        """DLT refit on the inliers, then, with ``polish``, the reweighted DLT.
+
+        The one refinement route of the space (:func:`~clap_unified.fit`
+        calls it). With ``polish`` the inliers returned are the matches whose
+        symmetric transfer error is below ``threshold`` (the polish's rule).
+        """
+        model, inliers = refit_on_inliers(self, model, data, threshold)
+        if self.polish:
+            from ..imaging.refinement import polish_checked
+
+            model, inliers = polish_checked(model, data, threshold)
+        return model, inliers

@@ -33,6 +33,7 @@ from pathlib import Path
 import numpy as np
 
 from ..._validation import as_generator, check_int
+from ...spaces.homography import transfer
 
 __all__ = ["SCENES", "load_synthetic_vpg", "make_synthetic_vpg", "scene_picture", "true_homography"]
 
@@ -105,11 +106,6 @@ def true_homography(K, R_i, R_j) -> np.ndarray:
     """``H_ij = K R_j R_i^T K^-1`` (pure rotation), ``H33 = 1``."""
     H = K @ R_j @ R_i.T @ np.linalg.inv(K)
     return H / H[2, 2]
-
-
-def _transfer(H, p):
-    q = np.c_[p, np.ones(len(p))] @ H.T
-    return q[:, :2] / q[:, 2:]
 
 
 def make_synthetic_vpg(root, *, scenes=SCENES, images_per_set: int = 3,
@@ -190,12 +186,12 @@ def make_synthetic_vpg(root, *, scenes=SCENES, images_per_set: int = 3,
             pts = np.empty((0, 2))
             for _ in range(20):  # cap: enough points land in the overlap long before
                 cand = g.uniform([0, 0], [w, h], (4 * n_correspondences, 2))
-                q = _transfer(H, cand)
+                q = transfer(H, cand)
                 ok = (q[:, 0] >= 0) & (q[:, 0] < w) & (q[:, 1] >= 0) & (q[:, 1] < h)
                 pts = np.concatenate([pts, cand[ok]])[:n_correspondences]
                 if len(pts) == n_correspondences:
                     break
-            m = np.c_[pts, _transfer(H, pts)]
+            m = np.c_[pts, transfer(H, pts)]
             (folder / f"m{e + 1:02d}-{e + 2:02d}.txt").write_text(
                 "\n".join(",".join(f"{v:.6f}" for v in r) for r in m) + "\n")
         (folder / f"S{k:02d}-STITCH-GRAPH.txt").write_text("\n".join(lines) + "\n")
