@@ -23,6 +23,7 @@ from .spaces import HypothesisSet, HypothesisSpace, LineSpace, generate_hypothes
 
 # The strategies register themselves on import (subpackages: hough, ransac, clap).
 from . import hough, ransac, clap  # noqa: E402,I001  isort: skip
+from . import external  # noqa
 from .registry import load_plugins  # noqa: E402
 
 load_plugins()

@@ -39,8 +39,8 @@ for ratio in (0.5, 0.8, 0.9):
         points, truth = scene.input.points, scene.truth
         space = LineSpace.for_data(points)
         out = compare(space, points, methods=("randomized_hough", "ransac", "clap"),
-                      n_hypotheses=1000, residual_threshold=0.15, rng=rng)
-        out["hough"] = hough_lines(points, space=space, residual_threshold=0.15)
+                      n_hypotheses=1000, threshold=0.15, rng=rng)
+        out["hough"] = hough_lines(points, space=space, threshold=0.15)
         for name, res in out.items():
             if not res:
                 print(ratio, name, "failed", res.reason)
