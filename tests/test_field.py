@@ -3,7 +3,7 @@ import json
 import numpy as np
 import pytest
 
-from clap_unified.localization.field import (
+from clap_unified.maps.field import (
     FIELD_DIMENSIONS,
     LANDMARK_TYPES,
     field_landmarks,

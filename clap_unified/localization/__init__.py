@@ -1,6 +1,6 @@
 """Localization applications built on the core.
 
-2D (RoboCup Humanoid fields): typed landmark maps (:mod:`.field`), a camera
+2D (RoboCup Humanoid fields): typed landmark maps (:mod:`clap_unified.maps`), a camera
 and detection simulator (:mod:`.observations`), one-frame localization by
 CLAP, RANSAC or Hough on the same candidates (:mod:`.localize2d`), a walking
 trajectory (:mod:`.trajectory`), an SE(2) EKF (:mod:`.ekf`), Monte Carlo
@@ -16,13 +16,16 @@ Every simulator returns a frozen pair ``(input, truth)``: estimators take the
 landmark identities, false-detection labels, noise-free copies); see
 :mod:`clap_unified.datatypes`.
 
-The map modules are imported eagerly; the estimators, which build on
-:mod:`clap_unified.spaces` (whose landmark space needs the map), on first use.
+The field maps live one floor down, in :mod:`clap_unified.maps` (the landmark
+hypothesis space reads them too); they are re-exported here.
 """
 
-import importlib
-
-from .field import FIELD_DIMENSIONS, LANDMARK_TYPES, Field, field_landmarks, load_field
+from ..maps import FIELD_DIMENSIONS, LANDMARK_TYPES, Field, field_landmarks, load_field
+from .ekf import PoseEKF
+from .localize2d import LOCALIZE_METHODS, as_pose, localize2d, observation_data
+from .localize3d import LOCALIZE3D_METHODS, align_correspondences, localize3d, pose_errors
+from .map3d import LandmarkMap3D, lab_map
+from .mcl import ParticleFilter
 from .observations import (
     FALSE_POSITIVE_KINDS,
     Camera,
@@ -33,35 +36,24 @@ from .observations import (
     simulate_observations,
     visible_landmarks,
 )
-
-_LAZY = {
-    "LOCALIZE_METHODS": "localize2d", "as_pose": "localize2d", "localize2d": "localize2d",
-    "observation_data": "localize2d",
-    "Trajectory": "trajectory", "OdometryInput": "trajectory", "TrajectoryTruth": "trajectory",
-    "walk_trajectory": "trajectory",
-    "PoseEKF": "ekf", "ParticleFilter": "mcl",
-    "TrackingRun": "tracking", "simulate_frames": "tracking", "track_clap_ekf": "tracking",
-    "track_mcl": "tracking", "tracking_errors": "tracking", "tracking_summary": "tracking",
-    "LandmarkMap3D": "map3d", "lab_map": "map3d",
-    "View3D": "scene3d", "Detections3D": "scene3d", "DetectionInput3D": "scene3d",
-    "DetectionTruth3D": "scene3d", "mocap_trajectory": "scene3d",
-    "simulate_detections": "scene3d", "associate_nearest": "scene3d",
-    "LOCALIZE3D_METHODS": "localize3d", "localize3d": "localize3d",
-    "align_correspondences": "localize3d", "pose_errors": "localize3d",
-}
-
-
-def __getattr__(name):
-    if name in _LAZY:
-        value = getattr(importlib.import_module(f".{_LAZY[name]}", __name__), name)
-        globals()[name] = value
-        return value
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-
-
-def __dir__():
-    return sorted(set(globals()) | set(_LAZY))
-
+from .scene3d import (
+    DetectionInput3D,
+    Detections3D,
+    DetectionTruth3D,
+    View3D,
+    associate_nearest,
+    mocap_trajectory,
+    simulate_detections,
+)
+from .tracking import (
+    TrackingRun,
+    simulate_frames,
+    track_clap_ekf,
+    track_mcl,
+    tracking_errors,
+    tracking_summary,
+)
+from .trajectory import OdometryInput, Trajectory, TrajectoryTruth, walk_trajectory
 
 __all__ = [
     "FALSE_POSITIVE_KINDS",
@@ -77,5 +69,33 @@ __all__ = [
     "random_frames",
     "simulate_observations",
     "visible_landmarks",
-    *_LAZY,
+    "LOCALIZE_METHODS",
+    "as_pose",
+    "localize2d",
+    "observation_data",
+    "Trajectory",
+    "OdometryInput",
+    "TrajectoryTruth",
+    "walk_trajectory",
+    "PoseEKF",
+    "ParticleFilter",
+    "TrackingRun",
+    "simulate_frames",
+    "track_clap_ekf",
+    "track_mcl",
+    "tracking_errors",
+    "tracking_summary",
+    "LandmarkMap3D",
+    "lab_map",
+    "View3D",
+    "Detections3D",
+    "DetectionInput3D",
+    "DetectionTruth3D",
+    "mocap_trajectory",
+    "simulate_detections",
+    "associate_nearest",
+    "LOCALIZE3D_METHODS",
+    "localize3d",
+    "align_correspondences",
+    "pose_errors",
 ]

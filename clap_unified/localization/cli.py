@@ -9,7 +9,7 @@ import numpy as np
 
 from ..geometry.se2 import SE2
 from ..io import read_json_list
-from .field import FIELD_DIMENSIONS
+from ..maps.field import FIELD_DIMENSIONS
 from .localize2d import LOCALIZE_METHODS, localize2d, observation_data
 
 __all__ = ["register", "read_observations", "result_summary"]

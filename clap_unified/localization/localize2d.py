@@ -25,11 +25,11 @@ from .._validation import check_choice, check_positive
 from ..clap import clap
 from ..geometry.se2 import SE2
 from ..hough import randomized_hough
+from ..maps.field import Field, load_field
 from ..ransac import ransac
 from ..result import ConsensusResult
 from ..spaces.landmarks2d import Landmark2DSpace, observations_array
 from ..spaces.sampling import generate_hypotheses
-from .field import Field, load_field
 from .observations import ObservationInput, Observations
 
 __all__ = ["LOCALIZE_METHODS", "MIRROR", "as_pose", "localize2d", "observation_data", "pose_error"]

@@ -2,7 +2,7 @@
 
 The lab map is one half of a RoboCup field (the MoCap volume covers the
 attacking half): the field's ground features (``z = 0``) from
-:func:`~clap_unified.localization.field.field_landmarks`, the goal posts at
+:func:`~clap_unified.maps.field.field_landmarks`, the goal posts at
 their feet, the crossbar corners at the goal height, and a few typed wall
 markers at different heights. The elevated landmarks matter: the ground
 features alone are coplanar and symmetric about the field's long axis, so a
@@ -18,7 +18,7 @@ import numpy as np
 
 from .._validation import check_points
 from ..io import read_json_list
-from .field import FIELD_DIMENSIONS, field_landmarks
+from ..maps.field import FIELD_DIMENSIONS, field_landmarks
 
 __all__ = ["LandmarkMap3D", "lab_map", "read_landmarks_json", "GOAL_HEIGHT"]
 

@@ -19,7 +19,7 @@ import numpy as np
 
 from .._validation import as_generator, check_fraction, check_int, check_positive
 from ..geometry.lines import wrap_angle
-from .field import LANDMARK_TYPES, Field
+from ..maps.field import LANDMARK_TYPES, Field
 
 __all__ = ["ParticleFilter"]
 

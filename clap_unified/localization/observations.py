@@ -26,7 +26,7 @@ import numpy as np
 from .._validation import as_generator, check_fraction, check_int, check_positive
 from ..datatypes import freeze_arrays, readonly
 from ..geometry.se2 import SE2
-from .field import LANDMARK_TYPES, Field
+from ..maps.field import LANDMARK_TYPES, Field
 
 __all__ = ["Camera", "Observations", "ObservationInput", "ObservationTruth", "random_frames",
            "simulate_observations", "visible_landmarks", "FALSE_POSITIVE_KINDS"]
@@ -91,7 +91,7 @@ class ObservationInput:
     ----------
     data : ndarray of shape (N, 3)
         Rows ``(type_id, x, y)`` in the robot frame (``type_id`` indexes
-        :data:`~clap_unified.localization.field.LANDMARK_TYPES`): the input of
+        :data:`~clap_unified.maps.field.LANDMARK_TYPES`): the input of
         :class:`~clap_unified.spaces.Landmark2DSpace` and of ``localize2d``.
         Read-only.
     """

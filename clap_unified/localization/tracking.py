@@ -25,9 +25,9 @@ import numpy as np
 from .._validation import as_generator, check_positive
 from ..geometry.lines import wrap_angle
 from ..geometry.se2 import SE2
+from ..maps.field import Field
 from ..spaces.landmarks2d import Landmark2DSpace
 from .ekf import PoseEKF
-from .field import Field
 from .localize2d import localize2d
 from .mcl import ParticleFilter
 from .observations import Camera, ObservationInput, Observations, simulate_observations

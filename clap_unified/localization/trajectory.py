@@ -16,7 +16,7 @@ from .._validation import as_generator, check_int, check_positive
 from ..datatypes import freeze_arrays
 from ..geometry.lines import wrap_angle
 from ..geometry.se2 import SE2
-from .field import Field
+from ..maps.field import Field
 
 __all__ = ["OdometryInput", "Trajectory", "TrajectoryTruth", "walk_trajectory",
            "relative_motion"]

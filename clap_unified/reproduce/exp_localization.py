@@ -132,9 +132,9 @@ experiment("localization3d", "3D localization: error CDF of CLAP and RANSAC agai
 OK_2D, GROSS_2D = (0.10, 2.0), (1.0, 180.0)
 
 def run_localization2d(params: dict, seed: int) -> dict:
-    from ..localization.field import load_field
     from ..localization.localize2d import localize2d, pose_error
     from ..localization.observations import random_frames
+    from ..maps.field import load_field
     from ..spaces import enumerate_hypotheses
     from ..spaces.landmarks2d import Landmark2DSpace
 

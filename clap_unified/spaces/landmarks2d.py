@@ -18,7 +18,7 @@ import numpy as np
 
 from .._validation import check_points, check_positive
 from ..geometry.se2 import SE2
-from ..localization.field import LANDMARK_TYPES, Field
+from ..maps.field import LANDMARK_TYPES, Field
 from .base import HypothesisSet, HypothesisSpace
 
 __all__ = ["Landmark2DSpace", "observations_array"]
@@ -69,7 +69,7 @@ class Landmark2DSpace(HypothesisSpace):
 
     Examples
     --------
-    >>> from clap_unified.localization import load_field
+    >>> from clap_unified.maps import load_field
     >>> space = Landmark2DSpace(load_field("adult"))
     >>> truth = SE2.from_xytheta(2.0, -1.0, 0.3)
     >>> marks = space.field.positions[space.field.types == "goal_post"][2:]
@@ -192,7 +192,7 @@ class Landmark2DSpace(HypothesisSpace):
 
         Examples
         --------
-        >>> from clap_unified.localization import load_field
+        >>> from clap_unified.maps import load_field
         >>> space = Landmark2DSpace(load_field("adult"))
         >>> truth = SE2.from_xytheta(4.0, 1.0, 0.1)
         >>> marks = space.field.positions[space.field.types == "goal_post"][2:]
@@ -301,7 +301,7 @@ class Landmark2DSpace(HypothesisSpace):
 
         Examples
         --------
-        >>> from clap_unified.localization import load_field
+        >>> from clap_unified.maps import load_field
         >>> space = Landmark2DSpace(load_field("adult"))
         >>> marks = space.field.positions[:4]
         >>> truth = SE2.from_xytheta(1.0, 2.0, 0.1)

@@ -105,7 +105,7 @@ def draw_detections(ax, pose, data, *, is_false=None, size: float = 40):
 
     False detections (``is_false``) get a red outline.
     """
-    from ..localization.field import LANDMARK_TYPES
+    from ..maps.field import LANDMARK_TYPES
 
     data = np.asarray(data, dtype=float).reshape(-1, 3)
     T = np.asarray(pose, dtype=float)
