@@ -61,11 +61,7 @@ FLOOR_OF = {unit: level for level, units in enumerate(FLOORS) for unit in units}
 
 #: Known upward imports, ``(file, target module)``, each to be removed by moving
 #: code down a floor (then delete the entry: a stale entry fails the test).
-KNOWN_UPWARD = {
-    # HomographySpace.refine(polish=True) calls the reweighted-DLT polish that
-    # lives in imaging; it belongs in spaces/homography (or a module beside it).
-    ("clap_unified/spaces/homography.py", "clap_unified.imaging.refinement"),
-}
+KNOWN_UPWARD: set = set()
 
 
 def _module_name(path: Path) -> tuple[str, bool]:

@@ -103,7 +103,7 @@ def test_protocol_defaults_are_the_papers():
 def test_polish_is_the_spaces_refinement():
     """CLAP's protocol = a polishing space; the same fit without polish differs only there."""
     from clap_unified import fit
-    from clap_unified.imaging.refinement import polish_homography
+    from clap_unified.spaces.homography_polish import polish_homography
     from clap_unified.refine import refit_on_inliers
 
     data = pair_matches(seed=12)

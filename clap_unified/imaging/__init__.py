@@ -5,7 +5,8 @@
   protocol (:data:`PROTOCOLS`): CLAP (the paper's), the library's DLT +
   RANSAC, a randomized Hough on CLAP's candidates and OpenCV's estimators
   (:mod:`clap_unified.external.opencv`) on the same matches;
-* :mod:`.refinement`: the reweighted-DLT polish of CLAP's protocol;
+* the reweighted-DLT polish of CLAP's protocol is the homography space's refinement
+  (:mod:`clap_unified.spaces.homography_polish`);
 * :mod:`.metrics`: Lie distance to ground truth, corner error, symmetric
   reprojection error;
 * :mod:`.features`: SIFT and the ratio test; :mod:`.stitching`: warping and

@@ -12,7 +12,7 @@ gets :data:`DEFAULT_PROTOCOL`):
   (:meth:`HomographySpace.for_data`), bandwidth the 2 % quantile of the
   candidates' 4-NN distances, robust centre by 5 rounds of trimming 20 %
   (medoid), then re-estimation on the data inliers of the centre: DLT refit
-  and a polish by reweighted DLT (``polish=True``, :mod:`.refinement`);
+  and a polish by reweighted DLT (``polish=True``, :mod:`~clap_unified.spaces.homography_polish`);
 * ``"ransac"``: the paper's baseline, DLT on 4-samples, a fixed budget of
   1000 trials, DLT refit on the inliers, no polish;
 * ``"randomized_hough"``: the same candidates as CLAP voted into cells of

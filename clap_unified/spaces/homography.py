@@ -18,7 +18,7 @@ The arithmetic every homography module uses lives here, once:
 :class:`HomographySpace` draws its hypotheses uniformly or progressively
 (PROSAC-like pools ordered by match quality) and refines a model by a DLT
 refit on its inliers, followed, with ``polish=True``, by a reweighted DLT
-(:func:`~clap_unified.imaging.refinement.polish_homography`).
+(:func:`~clap_unified.spaces.homography_polish.polish_homography`).
 """
 
 from __future__ import annotations
@@ -345,7 +345,7 @@ class HomographySpace(HypothesisSpace):
     polish : bool
         :meth:`refine` finishes the DLT refit on the inliers with a
         reweighted DLT on the symmetric transfer error
-        (:func:`~clap_unified.imaging.refinement.polish_homography`): CLAP's
+        (:func:`~clap_unified.spaces.homography_polish.polish_homography`): CLAP's
         protocol in the paper. Without it (the paper's RANSAC baseline) the
         refit is the whole refinement.
 
@@ -599,7 +599,7 @@ class HomographySpace(HypothesisSpace):
         """
         model, inliers = refit_on_inliers(self, model, data, threshold)
         if self.polish:
-            from ..imaging.refinement import polish_checked
+            from .homography_polish import polish_checked
 
             model, inliers = polish_checked(model, data, threshold)
         return model, inliers

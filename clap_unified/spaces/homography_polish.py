@@ -19,7 +19,7 @@ from __future__ import annotations
 import numpy as np
 
 from .._validation import check_array, check_int, check_points, check_positive
-from ..spaces.homography import dlt, symmetric_transfer_error, transfer
+from .homography import dlt, symmetric_transfer_error, transfer
 
 __all__ = ["polish_checked", "polish_homography"]
 
