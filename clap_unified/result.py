@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import dataclasses
 from dataclasses import dataclass, field
+
 import numpy as np
 
 from .datatypes import ReadOnlyDict, freeze_arrays

@@ -358,5 +358,5 @@ class Landmark2DSpace(HypothesisSpace):
         x, y, theta = SE2.to_xytheta(model)
         return {"x": float(x), "y": float(y), "theta": float(theta)}
 
-    def default_residual_threshold(self, data) -> float:
+    def default_threshold(self, data) -> float:
         return 0.3

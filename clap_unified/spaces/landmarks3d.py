@@ -256,5 +256,5 @@ class Landmark3DSpace(HypothesisSpace):
     def model_to_dict(self, model) -> dict:
         return pose_to_dict(model)
 
-    def default_residual_threshold(self, data) -> float:
+    def default_threshold(self, data) -> float:
         return self.inlier_threshold

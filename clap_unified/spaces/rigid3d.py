@@ -210,7 +210,7 @@ class Correspondence3DSpace(HypothesisSpace):
     def model_to_dict(self, model) -> dict:
         return pose_to_dict(model)
 
-    def default_residual_threshold(self, data) -> float:
+    def default_threshold(self, data) -> float:
         return self.inlier_threshold
 
 
