@@ -4,6 +4,7 @@ from .base import HypothesisSet, HypothesisSpace
 from .homography import HomographySpace, dlt
 from .landmarks3d import Landmark3DSpace
 from .lines import LineSpace
+from .observations import ObservationSpace
 from .rigid3d import Correspondence3DSpace, kabsch
 from .sampling import enumerate_hypotheses, generate_hypotheses, sample_subsets
 
@@ -14,6 +15,7 @@ __all__ = [
     "HypothesisSpace",
     "Landmark3DSpace",
     "LineSpace",
+    "ObservationSpace",
     "dlt",
     "enumerate_hypotheses",
     "generate_hypotheses",
