@@ -19,7 +19,7 @@ A toy strategy that takes the first hypothesis, registered, run and removed:
 ...     support[0] = True
 ...     return Consensus(hypotheses.models[0], (Cluster(hypotheses.models[0], 1, 0.0),),
 ...                      support, 1.0)
->>> register_strategy(Strategy("first", first, summary="the first hypothesis"))
+>>> _ = register_strategy(Strategy("first", first, summary="the first hypothesis"))
 >>> pts = np.c_[np.arange(10.0), 2 * np.arange(10.0)]
 >>> fit(LineSpace(), pts, "first", threshold=0.1, rng=0).n_inliers
 10
