@@ -6,7 +6,7 @@ scene, in the same run:
 
 * CLAP global update (candidates from all pairs + clustering + refit),
 * CLAP local update (prior 0.2 m / 5 degrees off the truth),
-* RANSAC and Hough on the same candidates (candidate generation included),
+* RANSAC and randomized Hough ("Hough") on the same candidates (candidate generation included),
 * one frame of the Monte Carlo localization baseline (500 particles:
   predict + weigh + resample), fed the same detections.
 
@@ -85,7 +85,7 @@ def main(argv=None):
             "CLAP global": partial(localize2d, obs.input.data, space=space),
             "CLAP local": partial(localize2d, obs.input.data, space=space, prior=prior),
             "RANSAC": partial(localize2d, obs.input.data, space=space, method="ransac"),
-            "Hough": partial(localize2d, obs.input.data, space=space, method="hough"),
+            "Hough": partial(localize2d, obs.input.data, space=space, method="randomized_hough"),
         }
         for name, fn in runs.items():
             res, t = timed(fn, args.repeat)

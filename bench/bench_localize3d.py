@@ -66,20 +66,20 @@ def main(argv=None) -> None:
 
     t, b = args.threshold, args.budget
     methods = {
-        "clap": lambda d, s: align_correspondences(d, n_samples=b, residual_threshold=t,
+        "clap": lambda d, s: align_correspondences(d, n_hypotheses=b, threshold=t,
                                                    rng=s).model,
         "ransac (same triplets)": lambda d, s: align_correspondences(
-            d, method="ransac", n_samples=b, residual_threshold=t, rng=s).model,
+            d, method="ransac", n_hypotheses=b, threshold=t, rng=s).model,
         f"clap ({b // 4} triplets)": lambda d, s: align_correspondences(
-            d, n_samples=b // 4, residual_threshold=t, rng=s).model,
+            d, n_hypotheses=b // 4, threshold=t, rng=s).model,
         f"ransac ({b // 4} triplets)": lambda d, s: align_correspondences(
-            d, method="ransac", n_samples=b // 4, residual_threshold=t, rng=s).model,
+            d, method="ransac", n_hypotheses=b // 4, threshold=t, rng=s).model,
         "open3d": lambda d, s: open3d_run(d, t, 100000, s),
         "open3d (budget)": lambda d, s: open3d_run(d, t, b, s),
         "open3d + refit": lambda d, s: align_correspondences(
-            d, method="open3d", n_samples=100000, residual_threshold=t, rng=s).model,
+            d, method="open3d", n_hypotheses=100000, threshold=t, rng=s).model,
         "open3d (budget) + refit": lambda d, s: align_correspondences(
-            d, method="open3d", n_samples=b, residual_threshold=t, rng=s).model,
+            d, method="open3d", n_hypotheses=b, threshold=t, rng=s).model,
     }
     scenes = [scene(args.correspondences, args.outliers, s) for s in range(args.scenes)]
     for fn in methods.values():  # warm-up: imports, caches

@@ -29,23 +29,27 @@ def test_global_mode_prints_pose_and_both_mirror_clusters(obs_file, capsys):
     code, out, err = run(["localize2d", str(obs_file), "--field", "adult"], capsys)
     assert code == 0 and err == ""
     d = json.loads(out)
-    assert d["success"] is True and set(d["pose"]) == {"x", "y", "theta"}
+    assert d["success"] is True and set(d["model"]) == {"x", "y", "theta"}
     top = d["clusters"][:2]
     assert top[0]["support"] == top[1]["support"]
-    xs = sorted(c["pose"]["x"] for c in top)
+    xs = sorted(c["model"]["x"] for c in top)
     assert xs[0] == pytest.approx(-3.0, abs=0.1) and xs[1] == pytest.approx(3.0, abs=0.1)
-    assert all(set(c) == {"pose", "support", "spread"} for c in d["clusters"])
+    assert all(set(c) == {"model", "support", "spread"} for c in d["clusters"])
+    # the one JSON form of a result, plus the command's context
+    assert d["method"] == "clap" and d["field"] == "adult" and d["candidates"] > 0
+    assert d["data"] == len(json.loads(obs_file.read_text()))
+    assert d["threshold"] == pytest.approx(0.3)
 
 
-@pytest.mark.parametrize("method", ["clap", "ransac", "hough"])
+@pytest.mark.parametrize("method", ["clap", "ransac", "randomized_hough"])
 def test_prior_selects_the_true_pose(obs_file, capsys, method):
     code, out, _ = run(["localize2d", str(obs_file), "--method", method,
                         "--prior", "2.8,1.1,0.25", "--seed", "1"], capsys)
     d = json.loads(out)
     assert code == 0 and d["method"] == method
-    assert d["pose"]["x"] == pytest.approx(3.0, abs=0.1)
-    assert d["pose"]["y"] == pytest.approx(1.0, abs=0.1)
-    assert d["pose"]["theta"] == pytest.approx(0.2, abs=np.radians(2))
+    assert d["model"]["x"] == pytest.approx(3.0, abs=0.1)
+    assert d["model"]["y"] == pytest.approx(1.0, abs=0.1)
+    assert d["model"]["theta"] == pytest.approx(0.2, abs=np.radians(2))
 
 
 @pytest.mark.parametrize("content, match", [
@@ -68,6 +72,8 @@ def test_bad_files_exit_2_with_one_line(tmp_path, capsys, content, match):
 
 def test_bad_prior_and_field_exit_2(obs_file, capsys):
     assert run(["localize2d", str(obs_file), "--prior", "1,2"], capsys)[0] == 2
+    with pytest.raises(SystemExit):  # the classical Hough transform is for lines only
+        main(["localize2d", str(obs_file), "--method", "hough"])
     with pytest.raises(SystemExit) as exc:
         main(["localize2d", str(obs_file), "--field", "senior"])
     assert exc.value.code == 2
@@ -78,4 +84,5 @@ def test_one_observation_is_a_failed_fit_not_a_crash(tmp_path, capsys):
     f.write_text('[{"type": "L", "x": 1.0, "y": 0.5}]')
     code, out, _ = run(["localize2d", str(f)], capsys)
     d = json.loads(out)
-    assert code == 1 and d["success"] is False and d["pose"] is None and "at least 2" in d["reason"]
+    assert code == 1 and d["success"] is False and d["model"] is None
+    assert "at least 2" in d["reason"]

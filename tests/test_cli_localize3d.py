@@ -38,14 +38,15 @@ def test_localize3d_prints_pose_json(files, frame, capsys, method):
                         "--method", method, "--seed", "3"], capsys)
     assert code == 0
     doc = json.loads(out)
-    R, t = np.array(doc["rotation"]), np.array(doc["translation"])
+    R, t = np.array(doc["model"]["rotation"]), np.array(doc["model"]["translation"])
     assert R.shape == (3, 3) and t.shape == (3,) and doc["success"] is True
     T = np.eye(4)
     T[:3, :3], T[:3, 3] = R, t
     e_t, e_r = pose_errors(T, frame[1].truth.pose)
     assert e_t < 0.05 and e_r < 1.0
-    assert doc["clusters"] and {"rotation", "translation", "support", "spread"} <= set(
-        doc["clusters"][0])
+    assert doc["clusters"] and set(doc["clusters"][0]) == {"model", "support", "spread"}
+    assert set(doc["clusters"][0]["model"]) == {"rotation", "translation"}
+    assert doc["method"] == method and doc["candidates"] > 0
     supports = [c["support"] for c in doc["clusters"]]
     assert supports == sorted(supports, reverse=True)
 

@@ -6,6 +6,7 @@ from clap_unified.geometry import SE2
 from clap_unified.localization import LANDMARK_TYPES, load_field
 from clap_unified.ransac import ransac
 from clap_unified.spaces import enumerate_hypotheses
+from clap_unified.spaces.base import Capabilities, HypothesisSpace
 from clap_unified.spaces.landmarks2d import Landmark2DSpace, observations_array
 
 FIELD = load_field("adult")
@@ -36,7 +37,7 @@ def test_clap_global_recovers_pose_with_40_percent_false_positives():
     data = observe(truth, idx, n_false=4, seed=1)  # 4 false of 10 = 40 %
     space = Landmark2DSpace(FIELD)
     hyps = enumerate_hypotheses(space, data)
-    res = clap(space, data, hypotheses=hyps, bandwidth=0.2, residual_threshold=0.2)
+    res = clap(space, data, hypotheses=hyps, bandwidth=0.2, threshold=0.2)
     assert res.success and res.n_inliers == 6
     # without a prior the symmetric field allows exactly two answers: both must be on top
     top = res.clusters[:2]
@@ -48,7 +49,7 @@ def test_clap_global_recovers_pose_with_40_percent_false_positives():
     dist, ang = min(pose_error(res.model, t) for t in (truth, mirror))
     assert dist < 0.10 and ang < 2.0
     # RANSAC on the identical candidates, measured beside it
-    r = ransac(space, data, hypotheses=hyps, max_trials=len(hyps), residual_threshold=0.2)
+    r = ransac(space, data, hypotheses=hyps, n_hypotheses=len(hyps), threshold=0.2)
     assert r.success and min(pose_error(r.model, t)[0] for t in (truth, mirror)) < 0.10
 
 
@@ -58,7 +59,7 @@ def test_symmetric_scene_reports_both_mirror_poses():
     data = observe(truth, idx, noise=0.0)
     space = Landmark2DSpace(FIELD)
     res = clap(space, data, hypotheses=enumerate_hypotheses(space, data), bandwidth=0.1,
-               min_support=1, residual_threshold=0.1)
+               min_support=1, threshold=0.1)
     poses = [SE2.to_xytheta(c.model) for c in res.clusters]
     assert len(poses) == 2
     mirror = SE2.from_xytheta(-0.5, 0.0, np.pi)
@@ -82,7 +83,10 @@ def test_refit_uses_associations_and_bad_observations_are_named():
 
 
 class _PlainRefit(Landmark2DSpace):
-    refit_steps = None  # refit_on_inliers falls back to inliers_of + refit
+    """The base route: inliers_of, then refit(data[inliers]) searching the landmarks again."""
+
+    declared = Capabilities(prior_hypotheses=True, grid=True)
+    refit_steps = HypothesisSpace.refit_steps
 
 
 @pytest.mark.parametrize("seed", range(6))

@@ -106,10 +106,10 @@ def test_clap_global_recovers_pose_or_mirror_pair_at_40_percent_false_positives(
     assert np.mean(ok) >= 0.85, f"{np.mean(ok):.2f} of scenes recovered"
 
 
-def test_ransac_and_hough_on_identical_candidates_measured_beside_clap():
+def test_ransac_and_randomized_hough_on_identical_candidates_measured_beside_clap():
     scenes = scenes_with_false_positives(0.4, 20, seed=12)
     rates = {}
-    for method in ("clap", "ransac", "hough"):
+    for method in ("clap", "ransac", "randomized_hough"):
         good = 0
         for truth, obs in scenes:
             hyps = generate_hypotheses(SPACE, obs.input.data, 20000)
@@ -120,7 +120,8 @@ def test_ransac_and_hough_on_identical_candidates_measured_beside_clap():
     # measured 0.85 / 0.90 / 0.90: one scene has a second arrangement of the
     # visible features that ties with the truth in CLAP's support (3 candidates
     # each) while RANSAC's inlier count (4 vs 3) tells them apart
-    assert rates["clap"] >= 0.8 and rates["ransac"] >= 0.8 and rates["hough"] >= 0.7, rates
+    assert rates["clap"] >= 0.8 and rates["ransac"] >= 0.8, rates
+    assert rates["randomized_hough"] >= 0.7, rates
 
 
 def test_local_mode_picks_the_true_pose_not_its_mirror():
@@ -129,7 +130,7 @@ def test_local_mode_picks_the_true_pose_not_its_mirror():
     res = localize2d(obs.input, FIELD, prior=prior)
     dist, ang = pose_error(res.model, truth)
     assert res.success and dist < 0.10 and ang < 2.0
-    for method in ("clap", "ransac", "hough"):
+    for method in ("clap", "ransac", "randomized_hough"):
         r = localize2d(obs.input, FIELD, method=method, prior=(0.0, -5.4, 1.0), radius=0.3)
         assert not r.success and ("radius" in r.reason or "candidate" in r.reason), r.reason
 
@@ -149,8 +150,8 @@ def test_too_few_observations_fail_with_a_reason_and_bad_input_is_named():
 
 def test_same_seed_same_result_when_pairs_are_sampled():
     truth, obs = scenes_with_false_positives(0.4, 1, seed=14)[0]
-    a = localize2d(obs.input, FIELD, max_hypotheses=5, rng=3)
-    b = localize2d(obs.input, FIELD, max_hypotheses=5, rng=3)
+    a = localize2d(obs.input, FIELD, n_hypotheses=5, rng=3)
+    b = localize2d(obs.input, FIELD, n_hypotheses=5, rng=3)
     np.testing.assert_array_equal(a.model, b.model)
 
 

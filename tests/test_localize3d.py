@@ -5,13 +5,12 @@ from itertools import combinations
 import numpy as np
 import pytest
 
+from clap_unified.clap.density import dense_candidates
 from clap_unified.geometry import SE3, so3_exp
 from clap_unified.localization.localize3d import (
     align_correspondences,
-    dense_candidates,
     localize3d,
     pose_errors,
-    type_correspondences,
 )
 from clap_unified.localization.map3d import LandmarkMap3D, lab_map
 from clap_unified.localization.scene3d import mocap_trajectory, simulate_detections
@@ -121,7 +120,7 @@ def test_correspondences_60_percent_outliers_same_budget():
                                   prior_error=(0.2, np.radians(2.0)))
         data = det.input.correspondences(LAB)
         for m in errors:
-            res = align_correspondences(data, method=m, n_samples=1000, rng=f)
+            res = align_correspondences(data, method=m, n_hypotheses=1000, rng=f)
             errors[m].append(pose_errors(res.model, det.truth.pose) if res else (np.inf, np.inf))
     for m, e in errors.items():
         e = np.array(e)
@@ -139,7 +138,7 @@ def test_clap_needs_several_agreeing_candidates_where_ransac_needs_one():
     ok = {"clap": 0, "ransac": 0}
     for seed in range(20):
         for m in ok:
-            res = align_correspondences(np.c_[p, q], method=m, n_samples=100, rng=seed)
+            res = align_correspondences(np.c_[p, q], method=m, n_hypotheses=100, rng=seed)
             ok[m] += bool(res) and np.allclose(res.model[:3, 3], [1, 0, 0], atol=0.05)
     assert ok["ransac"] > ok["clap"]
 
@@ -170,7 +169,8 @@ def test_relative_metric_and_chordal_bound():
 def test_type_correspondences_and_open3d_run():
     det = simulate_detections(LAB, TRAJ[6], outlier_ratio=0.5, rng=4)
     space = LAB.space()
-    corr = type_correspondences(space, det.input.data)
+    source, target, corr = space.correspondences(det.input.data)
+    assert source.shape == (len(det.input.data), 3) and target is space.positions
     ids = det.input.data[corr[:, 0], 0].astype(int)
     assert np.array_equal(ids, space.type_ids[corr[:, 1]])
     res = localize3d(det.input.data, LAB, method="open3d", rng=0)

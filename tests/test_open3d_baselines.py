@@ -38,8 +38,8 @@ def test_fpfh_pipeline_and_clap_on_feature_correspondences():
     assert len(mutual) == len(pairs)
     data = np.c_[ps[pairs[:, 0]], pt[pairs[:, 1]]]
     space = Correspondence3DSpace(distance_tolerance=0.06, inlier_threshold=0.09)
-    res = align_correspondences(data, n_samples=300_000, space=space, bandwidth=0.3,
-                                residual_threshold=0.09, rng=0)
+    res = align_correspondences(data, n_hypotheses=300_000, space=space, bandwidth=0.3,
+                                threshold=0.09, rng=0)
     assert res
     e_t, e_r = pose_errors(res.model, sc.truth.pose)
     assert e_t < 0.15 and e_r < 5.0

@@ -7,6 +7,9 @@ Importing this package registers them (the library's ``__init__`` does):
   runs).
 """
 
-from . import opencv  # noqa: F401  (registers the OpenCV strategies)
+from . import (
+    open3d,  # noqa: F401  (registers the Open3D strategy)
+    opencv,  # noqa: F401  (registers the OpenCV strategies)
+)
 
 __all__ = ["opencv"]

@@ -2,7 +2,7 @@
 
 2D (RoboCup Humanoid fields): typed landmark maps (:mod:`clap_unified.maps`), a camera
 and detection simulator (:mod:`.observations`), one-frame localization by
-CLAP, RANSAC or Hough on the same candidates (:mod:`.localize2d`), a walking
+CLAP, RANSAC or randomized Hough on the same candidates (:mod:`.localize2d`), a walking
 trajectory (:mod:`.trajectory`), an SE(2) EKF (:mod:`.ekf`), Monte Carlo
 localization (:mod:`.mcl`) and the tracking comparison (:mod:`.tracking`).
 
@@ -10,6 +10,10 @@ localization (:mod:`.mcl`) and the tracking comparison (:mod:`.tracking`).
 trajectory and detection simulator (:mod:`.scene3d`), one-frame 6-DoF localization by
 CLAP, RANSAC or Open3D (:mod:`.localize3d`) and the Open3D baselines, point clouds
 included (:mod:`.open3d_baselines`).
+
+Both one-frame localizers are thin: they turn their input into the data of a
+pose space and call the one pipeline, :func:`.core.localize` (hence
+:func:`~clap_unified.fit`); the strategies are those registered for the space.
 
 Every simulator returns a frozen pair ``(input, truth)``: estimators take the
 ``input`` (detections, odometry, scans), scoring takes the ``truth`` (poses,
@@ -21,9 +25,10 @@ hypothesis space reads them too); they are re-exported here.
 """
 
 from ..maps import FIELD_DIMENSIONS, LANDMARK_TYPES, Field, field_landmarks, load_field
+from .core import localize
 from .ekf import PoseEKF
-from .localize2d import LOCALIZE_METHODS, as_pose, localize2d, observation_data
-from .localize3d import LOCALIZE3D_METHODS, align_correspondences, localize3d, pose_errors
+from .localize2d import as_pose, localize2d, observation_data
+from .localize3d import align_correspondences, localize3d, pose_errors
 from .map3d import LandmarkMap3D, lab_map
 from .mcl import ParticleFilter
 from .observations import (
@@ -69,7 +74,7 @@ __all__ = [
     "random_frames",
     "simulate_observations",
     "visible_landmarks",
-    "LOCALIZE_METHODS",
+    "localize",
     "as_pose",
     "localize2d",
     "observation_data",
@@ -94,7 +99,6 @@ __all__ = [
     "mocap_trajectory",
     "simulate_detections",
     "associate_nearest",
-    "LOCALIZE3D_METHODS",
     "localize3d",
     "align_correspondences",
     "pose_errors",

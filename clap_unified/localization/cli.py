@@ -2,17 +2,17 @@
 
 from __future__ import annotations
 
-import time
 from pathlib import Path
 
 import numpy as np
 
-from ..geometry.se2 import SE2
 from ..io import read_json_list
-from ..maps.field import FIELD_DIMENSIONS
-from .localize2d import LOCALIZE_METHODS, localize2d, observation_data
+from ..maps.field import FIELD_DIMENSIONS, load_field
+from ..registry import strategy_names
+from ..spaces.landmarks2d import Landmark2DSpace
+from .localize2d import localize2d, observation_data
 
-__all__ = ["register", "read_observations", "result_summary"]
+__all__ = ["register", "read_observations"]
 
 
 def read_observations(path):
@@ -44,40 +44,17 @@ def _prior(text):
     return x, y, theta
 
 
-def _pose_dict(T) -> dict:
-    x, y, theta = SE2.to_xytheta(T)
-    return {"x": float(x), "y": float(y), "theta": float(theta)}
+def _space(field: str) -> Landmark2DSpace:
+    return Landmark2DSpace(load_field(field))
 
 
 def _localize2d(args) -> dict:
     data = read_observations(args.observations)
     prior = None if args.prior is None else _prior(args.prior)
-    t0 = time.perf_counter()
-    res = localize2d(data, args.field, method=args.method, prior=prior, rng=args.seed)
-    seconds = time.perf_counter() - t0
-    out = {
-        "pose": _pose_dict(res.model) if res.success else None,
-        "clusters": [{"pose": _pose_dict(c.model), "support": int(c.support),
-                      "spread": float(c.spread)} for c in res.clusters],
-        **result_summary(res, len(data), args.method, seconds),
-        "field": args.field,
-    }
-    return out
-
-
-def result_summary(res, n_observations: int, method: str, seconds: float) -> dict:
-    """The JSON fields every ``localize*`` command prints besides the pose and clusters."""
-    out = {
-        "success": bool(res.success),
-        "inliers": res.n_inliers,
-        "observations": n_observations,
-        "candidates": int(res.diagnostics.get("candidates", 0)),
-        "method": method,
-        "seconds": round(seconds, 6),
-    }
-    if not res.success:
-        out["reason"] = res.reason
-    return out
+    res = localize2d(data, space=_space(args.field), method=args.method, prior=prior,
+                     rng=args.seed)
+    return {**res.to_dict(), "candidates": int(res.diagnostics.get("hypotheses", 0)),
+            "field": args.field}
 
 
 def register(sub) -> None:
@@ -89,8 +66,9 @@ def register(sub) -> None:
                     "in the robot frame (metres, x forward, y left).")
     p.add_argument("observations", metavar="OBS.json")
     p.add_argument("--field", choices=sorted(FIELD_DIMENSIONS), default="adult")
-    p.add_argument("--method", choices=LOCALIZE_METHODS, default="clap")
+    p.add_argument("--method", choices=list(strategy_names(_space("adult"))), default="clap")
     p.add_argument("--prior", metavar="X,Y,THETA", default=None,
-                   help="previous estimate: CLAP's local mode; RANSAC and Hough gate around it")
+                   help="previous estimate: CLAP's local mode; the other methods see only the "
+                        "candidates near it")
     p.add_argument("--seed", type=int, default=0, help="random seed (pair sampling only)")
     p.set_defaults(run=_localize2d)

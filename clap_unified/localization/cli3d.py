@@ -2,20 +2,14 @@
 
 from __future__ import annotations
 
-import time
-
 import numpy as np
 
-from .cli import result_summary
-from .localize3d import LOCALIZE3D_METHODS, localize3d
+from ..registry import strategy_names
+from ..spaces.landmarks3d import Landmark3DSpace
+from .localize3d import localize3d
 from .map3d import LandmarkMap3D, read_landmarks_json
 
 __all__ = ["register"]
-
-
-def _pose(T) -> dict:
-    T = np.asarray(T, dtype=float)
-    return {"rotation": T[:3, :3].tolist(), "translation": T[:3, 3].tolist()}
 
 
 def _localize3d(args) -> dict:
@@ -31,16 +25,10 @@ def _localize3d(args) -> dict:
     except ValueError as exc:
         raise ValueError(f"{args.observations}: {exc}") from None
     data = np.c_[np.asarray(ids, dtype=float), obs_xyz].reshape(-1, 4)
-    t0 = time.perf_counter()
     res = localize3d(data, landmarks, method=args.method, space=space, rng=args.seed)
-    seconds = time.perf_counter() - t0
-    out = {
-        **(_pose(res.model) if res.success else {"rotation": None, "translation": None}),
-        "clusters": [{**_pose(c.model), "support": int(c.support), "spread": float(c.spread)}
-                     for c in res.clusters],
-        **result_summary(res, len(data), args.method, seconds),
-    }
-    return out
+    diag = res.diagnostics  # candidate poses, or the pairs handed to Open3D
+    return {**res.to_dict(), "candidates": int(diag.get("hypotheses") or diag.get("candidates", 0)),
+            "map": str(args.map)}
 
 
 def register(sub) -> None:
@@ -52,6 +40,7 @@ def register(sub) -> None:
                     "frame (metres), and MAP.json, the same in the world frame.")
     p.add_argument("observations", metavar="OBS.json")
     p.add_argument("--map", required=True, metavar="MAP.json")
-    p.add_argument("--method", choices=LOCALIZE3D_METHODS, default="clap")
+    methods = strategy_names(Landmark3DSpace(np.eye(3), ["a", "b", "c"]))
+    p.add_argument("--method", choices=list(methods), default="clap")
     p.add_argument("--seed", type=int, default=0, help="random seed (triplet sampling)")
     p.set_defaults(run=_localize3d)

@@ -3,7 +3,8 @@
 Thin wrappers that put numpy arrays into Open3D and take 4 x 4 poses out, so
 the chapter, the benchmark and the command line run exactly the same calls:
 
-* :func:`open3d_correspondence_ransac`:
+* :func:`open3d_correspondence_ransac` (defined with the ``"open3d"`` strategy
+  in :mod:`clap_unified.external.open3d`, re-exported here):
   ``registration_ransac_based_on_correspondence`` on given correspondences,
   with Open3D's edge-length and distance checkers (the counterpart of the
   triplet distance check of :mod:`clap_unified.spaces.rigid3d`);
@@ -26,7 +27,6 @@ kernel and thread count.
 
 from __future__ import annotations
 
-import os
 import time
 from dataclasses import dataclass
 
@@ -34,93 +34,12 @@ import numpy as np
 
 from .._validation import as_generator, check_int, check_positive
 from ..datatypes import freeze_arrays
+from ..external.open3d import _cloud, _o3d, open3d_correspondence_ransac
 from ..geometry.se3 import SE3
 
 __all__ = ["open3d_correspondence_ransac", "scene_point_clouds", "fpfh_features",
            "feature_correspondences", "open3d_feature_ransac", "open3d_fgr", "PointCloudScene",
            "PointCloudInput", "PointCloudTruth"]
-
-
-def _o3d():
-    os.environ.setdefault("OPEN3D_DISABLE_WEB_VISUALIZER", "true")
-    import open3d as o3d
-
-    return o3d
-
-
-def _cloud(points):
-    o3d = _o3d()
-    pc = o3d.geometry.PointCloud()
-    # a writeable copy: Open3D refuses read-only buffers (the scenes hand out read-only arrays)
-    pc.points = o3d.utility.Vector3dVector(np.array(points, dtype=float, order="C", copy=True))
-    return pc
-
-
-def open3d_correspondence_ransac(source, target, correspondences, *, threshold: float,
-                                 max_iteration: int = 100000, confidence: float = 0.999,
-                                 edge_length: float | None = 0.9, seed: int = 0):
-    """Open3D's RANSAC over putative correspondences: ``target ~ T source``.
-
-    Parameters
-    ----------
-    source : ndarray of shape (N, 3)
-        Points in the body frame.
-    target : ndarray of shape (M, 3)
-        Points in the world frame.
-    correspondences : ndarray of int, shape (K, 2)
-        Rows ``(source index, target index)``.
-    threshold : float
-        Inlier distance, metres (``max_correspondence_distance``).
-    max_iteration : int
-        RANSAC iterations at most (Open3D's default 100,000).
-    confidence : float
-        Open3D's early-stop confidence.
-    edge_length : float or None
-        ``CorrespondenceCheckerBasedOnEdgeLength`` similarity (0.9 in
-        Open3D's examples); None turns the checker off.
-    seed : int
-        Seeds Open3D's random generator.
-
-    Returns
-    -------
-    T : ndarray of shape (4, 4)
-        ``T_world_body``; the identity when no sample passed the checkers.
-    info : dict
-        ``seconds``, ``fitness`` (Open3D's inlier fraction), ``inlier_rmse``,
-        ``inliers`` (indices into ``correspondences``).
-
-    Examples
-    --------
-    >>> rng = np.random.default_rng(0)
-    >>> p = rng.uniform(-3, 3, (20, 3))
-    >>> q = p + [1.0, 2.0, 0.5]
-    >>> corr = np.c_[np.arange(20), np.arange(20)]
-    >>> corr[:8, 1] = rng.permutation(8)[::-1]       # some wrong pairs
-    >>> T, info = open3d_correspondence_ransac(p, q, corr, threshold=0.05)
-    >>> T[:3, 3].round(4).tolist()
-    [1.0, 2.0, 0.5]
-    """
-    o3d = _o3d()
-    reg = o3d.pipelines.registration
-    corr = np.array(correspondences, dtype=np.int32, order="C", copy=True).reshape(-1, 2)
-    threshold = check_positive(threshold, "threshold")
-    max_iteration = check_int(max_iteration, "max_iteration", minimum=1)
-    o3d.utility.random.seed(int(seed))
-    checkers = [reg.CorrespondenceCheckerBasedOnDistance(threshold)]
-    if edge_length is not None:
-        checkers.insert(0, reg.CorrespondenceCheckerBasedOnEdgeLength(edge_length))
-    src, tgt = _cloud(source), _cloud(target)
-    t0 = time.perf_counter()
-    res = reg.registration_ransac_based_on_correspondence(
-        src, tgt, o3d.utility.Vector2iVector(corr), threshold,
-        reg.TransformationEstimationPointToPoint(False), 3, checkers,
-        reg.RANSACConvergenceCriteria(max_iteration, confidence))
-    seconds = time.perf_counter() - t0
-    T = np.asarray(res.transformation).copy()
-    moved = np.asarray(source, dtype=float)[corr[:, 0]] @ T[:3, :3].T + T[:3, 3]
-    err = np.linalg.norm(moved - np.asarray(target, dtype=float)[corr[:, 1]], axis=1)
-    return T, {"seconds": seconds, "fitness": float(res.fitness),
-               "inlier_rmse": float(res.inlier_rmse), "inliers": np.flatnonzero(err < threshold)}
 
 
 # ---------------------------------------------------------------- point clouds

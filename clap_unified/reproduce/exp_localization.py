@@ -62,7 +62,7 @@ def run_localization3d(params: dict, seed: int) -> dict:
         for method in ("clap", "ransac"):
             typed = localize3d(inp.data, lab, method=method, space=space, hypotheses=hyps,
                                rng=np.random.default_rng([seed, 3, i, f]))
-            putative = align_correspondences(corr, method=method, n_samples=params["triplets"],
+            putative = align_correspondences(corr, method=method, n_hypotheses=params["triplets"],
                                              rng=np.random.default_rng([seed, 4, i, f]))
             for setting, r in (("typed", typed), ("correspondences", putative)):
                 e_t, e_r = pose_errors(r.model, det.truth.pose) if r else (np.inf, np.inf)
@@ -130,6 +130,9 @@ experiment("localization3d", "3D localization: error CDF of CLAP and RANSAC agai
 # ------------------------------------------------------------------------- 2D
 #: 2D (as chapter 3): correct within 10 cm and 2 deg, off beyond 1 m (or 180 deg).
 OK_2D, GROSS_2D = (0.10, 2.0), (1.0, 180.0)
+#: The strategies compared on the same candidates (the Hough grid is the randomized
+#: Hough transform on an (x, y, theta) grid).
+METHODS_2D = ("clap", "ransac", "randomized_hough")
 
 def run_localization2d(params: dict, seed: int) -> dict:
     from ..localization.localize2d import localize2d, pose_error
@@ -147,7 +150,7 @@ def run_localization2d(params: dict, seed: int) -> dict:
         for k, obs in enumerate(progress(frames, f"localization2d {rate:.0%}")):
             truth = obs.truth.pose
             hyps = enumerate_hypotheses(space, obs.input.data)
-            for method in ("clap", "ransac", "hough"):
+            for method in METHODS_2D:
                 r = localize2d(obs.input.data, space=space, hypotheses=hyps, method=method)
                 e = (pose_error(r.model, truth, up_to_symmetry=True) if r.success
                      else (None, None))
@@ -159,7 +162,7 @@ def run_localization2d(params: dict, seed: int) -> dict:
                                           "second_support": 0, "pose_and_mirror": False})
     numbers = {}
     for rate in params["false_positive_rates"]:
-        for method in ("clap", "ransac", "hough"):
+        for method in METHODS_2D:
             numbers[f"{method}@{rate:.2f}"] = _rates(
                 _errors(rows, false_positive_rate=rate, method=method), OK_2D, GROSS_2D)
     both = [r["pose_and_mirror"] for r in sym_rows]
@@ -194,10 +197,10 @@ def figures_localization2d(output: dict) -> dict:
     rows = output["tables"]["errors"]
     rates = sorted({r["false_positive_rate"] for r in rows})
     fig, ax = plt.subplots(layout="constrained", figsize=(6.0, 3.6))
-    for method, color in (("clap", "C3"), ("ransac", "C0"), ("hough", "C2")):
+    labels = {"clap": "CLAP", "ransac": "RANSAC", "randomized_hough": "Hough"}
+    for method, color in zip(METHODS_2D, ("C3", "C0", "C2"), strict=True):
         ok = [output["numbers"][f"{method}@{rate:.2f}"]["ok"] for rate in rates]
-        ax.plot(np.array(rates) * 100, ok, "o-", color=color, label=method.upper()
-                if method != "hough" else "Hough")
+        ax.plot(np.array(rates) * 100, ok, "o-", color=color, label=labels[method])
     ax.set_xlabel("false detections [%]")
     ax.set_ylabel(f"frames within {OK_2D[0] * 100:.0f} cm, {OK_2D[1]:.0f} deg")
     ax.set_ylim(0, 1.02)

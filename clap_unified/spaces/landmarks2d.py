@@ -19,9 +19,12 @@ import numpy as np
 from .._validation import check_points, check_positive
 from ..geometry.se2 import SE2
 from ..maps.field import LANDMARK_TYPES, Field
-from .base import HypothesisSet, HypothesisSpace
+from .base import Capabilities, HypothesisSet, HypothesisSpace
 
-__all__ = ["Landmark2DSpace", "observations_array"]
+__all__ = ["HOUGH_CELL", "Landmark2DSpace", "observations_array"]
+
+#: Randomized Hough grid cell of planar poses: 0.25 m x 0.25 m x 5 degrees.
+HOUGH_CELL = (0.25, 0.25, np.radians(5.0))
 
 
 def observations_array(observations) -> np.ndarray:
@@ -83,6 +86,9 @@ class Landmark2DSpace(HypothesisSpace):
     min_samples = 2
     model_shape = (3, 3)
     name = "pose2d"
+    #: A prior's association gives the local candidates; the refit reuses the
+    #: inlier test's association; the randomized Hough grid is ``(x, y, theta)``.
+    declared = Capabilities(prior_hypotheses=True, local_refit=True, grid=True)
 
     def __init__(self, field: Field, *, distance_tolerance: float = 0.3,
                  angle_weight: float = 1.0, range_noise=(0.01, 0.004), on_field: bool = True):
@@ -179,6 +185,32 @@ class Landmark2DSpace(HypothesisSpace):
         d2 = np.einsum("nmk,nmk->nm", diff, diff)
         d2[data[:, 0].astype(int)[:, None] != self._type_ids[None]] = np.inf
         return np.where(d2.min(axis=1) <= gate**2, d2.argmin(axis=1), -1)
+
+    def hypotheses(self, data, n: int, *, rng=None, prior=None, radius=None,
+                   **sampling) -> HypothesisSet:
+        """Candidate poses: with a ``prior``, those of the association it implies.
+
+        Without a prior, every type-compatible map pair for every observation
+        pair (the base default: all pairs while there are no more than ``n``,
+        otherwise ``n`` random pairs). With one, :meth:`local_hypotheses` with
+        the gate ``radius`` (metres).
+        """
+        if prior is None:
+            return super().hypotheses(data, n, rng=rng, **sampling)
+        if sampling:
+            raise ValueError(f"sampling: the {self.name} space takes no sampling options, "
+                             f"got {sorted(sampling)}")
+        if radius is None:
+            raise ValueError("radius: a prior needs a radius (the association gate, metres)")
+        return self.local_hypotheses(data, prior, gate=check_positive(radius, "radius"))
+
+    def hough_grid(self):
+        """``(x, y, theta)`` coordinates for the randomized Hough grid; theta has period 2 pi."""
+        return SE2.to_xytheta, (None, None, 2 * np.pi)
+
+    def default_cell_size(self, data=None):
+        """:data:`HOUGH_CELL`: 0.25 m x 0.25 m x 5 degrees."""
+        return HOUGH_CELL
 
     def local_hypotheses(self, data, pose, gate: float) -> HypothesisSet:
         """Candidates consistent with a prior: one pose per pair of associated observations.

@@ -25,8 +25,16 @@ import numpy as np
 
 from .._validation import check_array, check_points, check_positive
 from ..geometry.se3 import SE3
-from .base import HypothesisSpace
-from .rigid3d import _from_rt, _kabsch, _refit, min_altitude, pose_manifold, pose_to_dict
+from .base import Capabilities, HypothesisSpace
+from .rigid3d import (
+    _from_rt,
+    _kabsch,
+    _refit,
+    min_altitude,
+    near_pose,
+    pose_manifold,
+    pose_to_dict,
+)
 
 __all__ = ["Landmark3DSpace"]
 
@@ -76,6 +84,9 @@ class Landmark3DSpace(HypothesisSpace):
     min_samples = 3
     model_shape = (4, 4)
     name = "pose3d"
+    #: Beyond the protocol: :meth:`near_prior` takes a pair of thresholds,
+    #: :meth:`correspondences` hands the type-compatible pairs to external estimators.
+    declared = Capabilities()
 
     def __init__(self, positions, types, *, distance_tolerance: float = 0.2,
                  min_altitude: float = 0.1, angle_weight: float = 2.0, metric: str = "relative",
@@ -142,6 +153,30 @@ class Landmark3DSpace(HypothesisSpace):
             raise ValueError("observations: column 0 must be a type id in "
                              f"0..{len(self.type_names) - 1} (index of space.type_names)")
         return obs
+
+    def near_prior(self, prior, models, radius) -> np.ndarray:
+        """Models within ``radius`` of ``prior``: a distance or ``(max_translation, max_rotation)``.
+
+        See :func:`~clap_unified.spaces.rigid3d.near_pose`.
+        """
+        return near_pose(self.manifold, prior, models, radius)
+
+    def correspondences(self, data):
+        """Putative pairs for correspondence estimators: ``(source, target, pairs)``.
+
+        ``source`` are the detections (body frame), ``target`` the map
+        landmarks, ``pairs`` every (detection, landmark) of the same type.
+
+        Examples
+        --------
+        >>> space = Landmark3DSpace(np.eye(3), ["a", "b", "b"])
+        >>> space.correspondences(np.array([[1.0, 0, 0, 0], [0.0, 1, 1, 1]]))[2].tolist()
+        [[0, 1], [0, 2], [1, 0]]
+        """
+        data = np.asarray(data, dtype=float)
+        ids = data[:, 0].astype(int)
+        i, m = np.nonzero(ids[:, None] == self.type_ids[None, :])
+        return data[:, 1:], self.positions, np.c_[i, m].astype(np.intp)
 
     # ------------------------------------------------------------------ solver
     def match_triplets(self, data, samples):

@@ -20,9 +20,10 @@ import numpy as np
 
 from .._validation import check_array, check_points, check_positive
 from ..geometry.se3 import SE3
-from .base import HypothesisSpace
+from .base import Capabilities, HypothesisSpace
 
-__all__ = ["kabsch", "min_altitude", "Correspondence3DSpace", "pose_to_dict", "pose_manifold"]
+__all__ = ["kabsch", "min_altitude", "Correspondence3DSpace", "near_pose", "pose_to_dict",
+           "pose_manifold"]
 
 #: Reference points for ``metric="point_set"`` when none are given: +-3 m on each axis.
 DEFAULT_REFERENCE_POINTS = 3.0 * np.vstack([np.eye(3), -np.eye(3)])
@@ -112,6 +113,33 @@ def pose_manifold(angle_weight: float, metric: str, reference_points) -> SE3:
     return SE3(angle_weight, metric=metric, reference_points=reference_points)
 
 
+def near_pose(manifold, prior, models, radius) -> np.ndarray:
+    """Mask of the ``models`` within ``radius`` of ``prior``: the pose spaces' local gate.
+
+    ``radius`` is a float (the manifold's distance) or a pair ``(max_translation,
+    max_rotation)`` (metres, radians) bounding the two parts of the relative
+    transform error (Sec. III-C of the paper).
+
+    Examples
+    --------
+    >>> from clap_unified.geometry import so3_exp
+    >>> g = SE3(2.0)
+    >>> T = np.stack([SE3.from_rt(so3_exp([0, 0, a]), [x, 0, 0]) for x, a in
+    ...               [(0.1, 0.0), (0.1, 0.3), (0.8, 0.0)]])
+    >>> near_pose(g, np.eye(4), T, (0.5, np.radians(10))).tolist()
+    [True, False, False]
+    """
+    if np.ndim(radius) == 0:
+        return manifold.distance(prior, models) <= check_positive(radius, "radius")
+    r = np.asarray(radius, dtype=float)
+    if r.shape != (2,):
+        raise ValueError(f"radius: expected a distance or a pair (max_translation, "
+                         f"max_rotation), got {radius!r}")
+    max_t, max_r = check_positive(r[0], "radius"), check_positive(r[1], "radius")
+    e_t, e_r = manifold.relative_error(prior, models)
+    return (e_t <= max_t) & (e_r <= max_r)
+
+
 def pose_to_dict(model) -> dict:
     """``{"rotation": 3 x 3 row-major, "translation": [x, y, z]}`` of a 4 x 4 pose."""
     T = np.asarray(model, dtype=float)
@@ -160,6 +188,9 @@ class Correspondence3DSpace(HypothesisSpace):
     min_samples = 3
     model_shape = (4, 4)
     name = "rigid3d"
+    #: Beyond the protocol: :meth:`near_prior` takes a pair of thresholds,
+    #: :meth:`correspondences` hands the putative pairs to external estimators.
+    declared = Capabilities()
 
     def __init__(self, *, distance_tolerance: float = 0.2, min_altitude: float = 0.1,
                  angle_weight: float = 2.0, metric: str = "relative", reference_points=None,
@@ -179,6 +210,37 @@ class Correspondence3DSpace(HypothesisSpace):
 
     def check_data(self, data) -> np.ndarray:
         return check_points(data, "correspondences", dim=6, min_count=self.min_samples)
+
+    def hypotheses(self, data, n: int, *, rng=None, prior=None, radius=None,
+                   **sampling):
+        """Poses from random triplets; ``sampling`` may set ``exhaustive`` and ``max_draws``.
+
+        ``exhaustive=False, max_draws=n`` draws exactly ``n`` triplets (the
+        budget of :func:`~clap_unified.localization.align_correspondences`),
+        keeping those that pass the checks (see
+        :func:`~clap_unified.spaces.generate_hypotheses`).
+        """
+        from .sampling import generate_hypotheses
+
+        unknown = sorted(set(sampling) - {"exhaustive", "max_draws"})
+        if unknown:
+            raise ValueError(f"sampling: the {self.name} space takes exhaustive and max_draws, "
+                             f"got {unknown}")
+        return generate_hypotheses(self, data, n, rng=rng, **sampling)
+
+    def near_prior(self, prior, models, radius) -> np.ndarray:
+        """Models within ``radius`` of ``prior`` (a distance or a pair, see :func:`near_pose`)."""
+        return near_pose(self.manifold, prior, models, radius)
+
+    def correspondences(self, data):
+        """Putative pairs for correspondence estimators: ``(source, target, pairs)``.
+
+        Here the rows are the pairs: ``source = p``, ``target = q`` and
+        ``pairs`` the identity ``(i, i)``.
+        """
+        data = np.asarray(data, dtype=float)
+        i = np.arange(len(data), dtype=np.intp)
+        return data[:, :3], data[:, 3:], np.c_[i, i]
 
     def solve_minimal(self, data, samples):
         """One Kabsch pose per triplet that passes the collinearity and distance checks."""
