@@ -293,7 +293,8 @@ def test_2d_rules():
     def numbers(clap_ok, ransac_ok):
         n = {}
         for i, rate in enumerate(("0.00", "0.30", "0.60")):
-            for m, ok in (("clap", clap_ok[i]), ("ransac", ransac_ok[i]), ("hough", 0.5)):
+            oks = (("clap", clap_ok[i]), ("ransac", ransac_ok[i]), ("randomized_hough", 0.5))
+            for m, ok in oks:
                 n[f"{m}@{rate}"] = {"ok": ok, "n": 300, "gross": 0.0, "median_cm": 3.0}
         n["symmetry"] = {"frames": 10, "pose_and_mirror_tied": 0.9}
         return {"localization2d": {"numbers": n}}
