@@ -52,12 +52,23 @@ def readonly(array, dtype=None) -> np.ndarray:
     return out
 
 
-def freeze_arrays(obj) -> None:
-    """Replace every ndarray field of the frozen dataclass ``obj`` by a read-only copy."""
+def freeze_arrays(obj, *, copy: bool = True) -> None:
+    """Make every ndarray field of the frozen dataclass ``obj`` read-only.
+
+    With ``copy`` (the loaders' choice) each becomes a read-only copy, so the
+    caller's arrays are neither aliased nor locked. Without it (results built
+    from arrays their builder owns) each becomes a read-only view: no copy,
+    the same protection for whoever holds the object.
+    """
     for f in dataclasses.fields(obj):
         value = getattr(obj, f.name)
         if isinstance(value, np.ndarray):
-            object.__setattr__(obj, f.name, readonly(value))
+            if copy:
+                frozen = readonly(value)
+            else:
+                frozen = value.view()
+                frozen.flags.writeable = False
+            object.__setattr__(obj, f.name, frozen)
 
 
 class ReadOnlyDict(dict):
@@ -69,12 +80,12 @@ class ReadOnlyDict(dict):
     >>> d["seconds"] = 1.0
     Traceback (most recent call last):
     ...
-    TypeError: read-only: diagnostics of a frozen result cannot change; use result.replace(diagnostics={...})
+    TypeError: read-only: a frozen result's diagnostics cannot change; use result.replace()
     """
 
     def _refuse(self, *args, **kwargs):
-        raise TypeError("read-only: diagnostics of a frozen result cannot change; "
-                        "use result.replace(diagnostics={...})")
+        raise TypeError("read-only: a frozen result's diagnostics cannot change; "
+                        "use result.replace()")
 
     __setitem__ = __delitem__ = _refuse
     clear = pop = popitem = setdefault = update = __ior__ = _refuse

@@ -127,7 +127,7 @@ def fit(space, data, method: str = "clap", *, n_hypotheses: int = 1000,
             raise ValueError("radius: a prior needs a radius (the gate around it)")
         if np.ndim(radius) == 0:
             radius = check_positive(radius, "radius")
-    g = as_generator(rng)
+    g = rng  # a Generator is made only when something draws (it costs ~30 us unseeded)
     n = len(data)
     diag = {}
     gen = 0.0
@@ -135,6 +135,7 @@ def fit(space, data, method: str = "clap", *, n_hypotheses: int = 1000,
         hypotheses = None
     elif hypotheses is None and not (strategy.draws_samples and prior is None):
         t1 = time.perf_counter()
+        g = as_generator(rng)
         hypotheses = space.hypotheses(data, n_hypotheses, rng=g, prior=prior, radius=radius,
                                       **(sampling or {}))
         gen = time.perf_counter() - t1
@@ -142,17 +143,19 @@ def fit(space, data, method: str = "clap", *, n_hypotheses: int = 1000,
         raise ValueError("sampling: only used when fit generates the hypotheses")
     n_hyp = 0 if hypotheses is None else len(hypotheses)
     candidates, keep = hypotheses, None
-    if prior is not None and hypotheses is not None:
-        keep = np.flatnonzero(space.near_prior(prior, hypotheses.models, radius))
-        candidates = hypotheses.subset(keep)
-        diag["near_prior"] = len(keep)
+    if prior is not None and hypotheses is not None and not strategy.gates_prior:
+        near = space.near_prior(prior, hypotheses.models, radius)
+        diag["near_prior"] = int(np.count_nonzero(near))
+        if diag["near_prior"] < n_hyp:
+            keep = np.flatnonzero(near)
+            candidates = hypotheses.subset(keep)
 
     def failed(reason, **more):
         return ConsensusResult.failure(method, reason, n, n_hyp, space, threshold,
                                        **diag, **more, generation_seconds=gen,
                                        seconds=time.perf_counter() - t0)
 
-    if candidates is not None and len(candidates) == 0:
+    if candidates is not None and (len(candidates) == 0 or diag.get("near_prior") == 0):
         if prior is not None and n_hyp:
             return failed(f"no hypothesis within radius {_describe(radius)} of the prior "
                           f"({n_hyp} generated)")

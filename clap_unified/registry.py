@@ -51,7 +51,10 @@ class Strategy:
     run : callable
         ``run(space, data, hypotheses, *, threshold, prior, radius, rng,
         n_hypotheses, **options) -> Consensus``. ``data`` is checked by the
-        space, ``threshold`` is a positive float, ``hypotheses`` a
+        space, ``threshold`` is a positive float, ``rng`` is what the caller
+        gave (``None``, an int or a Generator; the Generator the hypotheses
+        were drawn from when :func:`~clap_unified.fit` drew them): a strategy
+        that draws calls :func:`~clap_unified._validation.as_generator` on it, ``hypotheses`` a
         :class:`~clap_unified.spaces.HypothesisSet` (``None`` when
         ``uses_hypotheses`` is False, or when ``draws_samples`` is True and
         the caller gave none).
@@ -63,6 +66,11 @@ class Strategy:
         The strategy draws its own minimal samples when given no hypotheses
         (RANSAC's adaptive stopping): :func:`~clap_unified.fit` then does not
         generate them first.
+    gates_prior : bool
+        With a prior, the strategy receives every hypothesis and applies
+        ``space.near_prior`` itself (CLAP's local mode shares the distance
+        computation); otherwise :func:`~clap_unified.fit` hands over only the
+        hypotheses near the prior.
     applies_to : tuple of str, optional
         Names of the spaces it works in (``space.name``); ``None`` for any.
     finish : callable, optional
@@ -81,6 +89,7 @@ class Strategy:
     run: Callable
     uses_hypotheses: bool = True
     draws_samples: bool = False
+    gates_prior: bool = False
     applies_to: tuple | None = None
     finish: Callable | None = None
     default_threshold: Callable | None = None

@@ -40,7 +40,7 @@ class Cluster:
     members: np.ndarray = field(default_factory=lambda: np.empty(0, dtype=np.intp))
 
     def __post_init__(self):
-        freeze_arrays(self)
+        freeze_arrays(self, copy=False)  # arrays built for this result: a read-only view
 
 
 def runner_up_ratio(clusters) -> float:
@@ -148,7 +148,7 @@ class ConsensusResult:
     threshold: float | None = None
 
     def __post_init__(self):
-        freeze_arrays(self)
+        freeze_arrays(self, copy=False)  # arrays built for this result: a read-only view
         object.__setattr__(self, "clusters", tuple(self.clusters))
         object.__setattr__(self, "diagnostics", ReadOnlyDict(self.diagnostics))
 

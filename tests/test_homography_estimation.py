@@ -103,8 +103,8 @@ def test_protocol_defaults_are_the_papers():
 def test_polish_is_the_spaces_refinement():
     """CLAP's protocol = a polishing space; the same fit without polish differs only there."""
     from clap_unified import fit
-    from clap_unified.spaces.homography_polish import polish_homography
     from clap_unified.refine import refit_on_inliers
+    from clap_unified.spaces.homography_polish import polish_homography
 
     data = pair_matches(seed=12)
     res = clap_homography(data, rng=0)

@@ -91,14 +91,15 @@ def run_clap(space, data, hypotheses: HypothesisSet, *, threshold: float, prior=
     threshold, rng, n_hypotheses
         Unused (the inlier threshold is applied by :func:`~clap_unified.fit`).
     prior : ndarray, optional
-        Local mode: the hypotheses (already those within ``radius`` of the
-        prior) are one neighbourhood; their robust centre is the estimate.
+        Local mode: the hypotheses within ``radius`` of the prior
+        (``space.near_prior``; CLAP applies the gate itself, computing the
+        distances to the prior with those among the hypotheses) are one
+        neighbourhood; their robust centre is the estimate.
         Without it, global mode: seed at the hypothesis with the most
         neighbours within ``bandwidth``, take its neighbourhood, find a robust
         centre, suppress that region and repeat.
-    radius : float, optional
-        Local mode: recorded as the cluster's extent (the gate itself is
-        applied by :func:`~clap_unified.fit`).
+    radius : float or what ``space.near_prior`` accepts, optional
+        Local mode: the gate around the prior.
     bandwidth : float, optional
         Global mode: neighbourhood radius in hypothesis space. Default:
         :func:`~clap_unified.clap.density.auto_bandwidth`.
@@ -155,17 +156,28 @@ def run_clap(space, data, hypotheses: HypothesisSet, *, threshold: float, prior=
 
     clusters = []
     if prior is not None:
-        diag["in_radius"] = h
-        if h < min_support:
-            return Consensus.failed(f"only {h} hypotheses within radius {_fmt(radius)} of the "
-                                    f"prior (min_support={min_support})", **diag)
-        sub = manifold.pairwise_distance(models) if centre == "medoid" else None
+        # the prior's gate is applied here (the strategy declares gates_prior): with few
+        # hypotheses one matrix holds the distances to the prior and among them
+        if centre == "medoid" and np.ndim(radius) == 0 and h < manifold.small_pairwise:
+            full = manifold.pairwise_distance(np.concatenate([prior[None], models]))
+            near = np.flatnonzero(full[0, 1:] <= radius)
+            sub = full.take(near + 1, axis=0).take(near + 1, axis=1)
+        else:
+            near = np.flatnonzero(space.near_prior(prior, models, radius))
+            sub = manifold.pairwise_distance(models[near]) if centre == "medoid" else None
+        diag["near_prior"] = len(near)
+        if len(near) < min_support:
+            return Consensus.failed(f"only {len(near)} hypotheses within radius {_fmt(radius)} "
+                                    f"of the prior (min_support={min_support})", **diag)
+        local = models[near]
         if centre == "medoid" and rejection == "trim":  # all from the one matrix
             b, keep = trimmed_medoid_index(sub, rounds=rounds, discard_fraction=discard_fraction)
-            clusters.append(Cluster(models[b], h, _median(sub[b, keep]), keep))
+            clusters.append(Cluster(local[b], len(near), _median(sub[b, keep]), near[keep]))
         else:
-            c, keep = _robust_centre(manifold, models, distances=sub, **robust)
-            clusters.append(_cluster(manifold, c, models, np.flatnonzero(keep), support=h))
+            c, keep = _robust_centre(manifold, local, distances=sub, **robust)
+            kept = np.flatnonzero(keep)
+            clusters.append(_cluster(manifold, c, local, kept, support=len(near),
+                                     members=near[kept]))
     else:
         index = np.arange(h)
         if prune:
@@ -237,7 +249,7 @@ def _fmt(radius) -> str:
 
 
 register_strategy(Strategy(
-    "clap", run_clap,
+    "clap", run_clap, gates_prior=True,
     summary="density centres of the hypotheses in their own space (the paper's method)"))
 
 

@@ -35,7 +35,7 @@ import time
 
 import numpy as np
 
-from .._validation import check_int, check_positive
+from .._validation import as_generator, check_int, check_positive
 from ..registry import Strategy, register_strategy
 from ..result import Cluster, Consensus
 
@@ -138,7 +138,7 @@ def run_open3d(space, data, hypotheses=None, *, threshold: float, prior=None, ra
         Unused (Open3D draws its own samples; a prior plays no part).
     threshold : float
         Inlier distance, metres.
-    rng : numpy.random.Generator
+    rng : None, int or numpy.random.Generator
         Draws Open3D's seed when ``seed`` is not given.
     n_hypotheses : int
         Open3D's iteration cap.
@@ -154,7 +154,7 @@ def run_open3d(space, data, hypotheses=None, *, threshold: float, prior=None, ra
         when fewer than three pairs agree with it.
     """
     if seed is None:
-        seed = int(rng.integers(2**31 - 1)) if rng is not None else 0
+        seed = int(as_generator(rng).integers(2**31 - 1)) if rng is not None else 0
     source, target, pairs = space.correspondences(data)
     T, info = open3d_correspondence_ransac(source, target, pairs, threshold=threshold,
                                            max_iteration=n_hypotheses, confidence=confidence,

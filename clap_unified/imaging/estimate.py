@@ -31,8 +31,6 @@ right.
 
 from __future__ import annotations
 
-import numpy as np
-
 from .._validation import check_points
 from ..fitting import fit
 from ..result import ConsensusResult

@@ -89,6 +89,12 @@ class HypothesisSet:
     exhaustive: bool
     space: HypothesisSpace = field(repr=False)
 
+    def __post_init__(self):
+        # read-only in place: a result's model may be a view of one of these rows
+        for a in (self.models, self.samples):
+            if isinstance(a, np.ndarray):
+                a.flags.writeable = False
+
     def __len__(self) -> int:
         return int(self.models.shape[0])
 
@@ -191,7 +197,12 @@ class HypothesisSpace(ABC):
         return generate_hypotheses(self, data, n, rng=rng)
 
     def near_prior(self, prior, models, radius) -> np.ndarray:
-        """Boolean mask of the ``models`` within ``radius`` of ``prior`` (the local gate)."""
+        """Boolean mask of the ``models`` within ``radius`` of ``prior`` (the local gate).
+
+        A scalar ``radius`` always means the manifold's distance (strategies
+        may compute it with other distances at once); a space may accept other
+        gate specifications besides (e.g. a translation and a rotation bound).
+        """
         return self.manifold.distance(prior, models) <= radius
 
     def inliers(self, model, data: np.ndarray, threshold: float) -> np.ndarray:
