@@ -7,7 +7,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .datatypes import ReadOnlyDict, freeze_arrays
+from .datatypes import ReadOnlyDict
 
 __all__ = ["Cluster", "Consensus", "ConsensusResult", "runner_up_ratio"]
 
@@ -40,7 +40,16 @@ class Cluster:
     members: np.ndarray = field(default_factory=lambda: np.empty(0, dtype=np.intp))
 
     def __post_init__(self):
-        freeze_arrays(self, copy=False)  # arrays built for this result: a read-only view
+        object.__setattr__(self, "model", _locked(self.model))
+        object.__setattr__(self, "members", _locked(self.members))
+
+
+def _locked(value):
+    """A read-only view of an array built for a result (no copy); other values as they are."""
+    if isinstance(value, np.ndarray):
+        value = value.view()
+        value.flags.writeable = False
+    return value
 
 
 def runner_up_ratio(clusters) -> float:
@@ -148,7 +157,8 @@ class ConsensusResult:
     threshold: float | None = None
 
     def __post_init__(self):
-        freeze_arrays(self, copy=False)  # arrays built for this result: a read-only view
+        for name in ("model", "inliers", "support"):
+            object.__setattr__(self, name, _locked(getattr(self, name)))
         object.__setattr__(self, "clusters", tuple(self.clusters))
         object.__setattr__(self, "diagnostics", ReadOnlyDict(self.diagnostics))
 

@@ -17,7 +17,7 @@ count, so it scores all of them, as CLAP clusters all of them.
 
 from __future__ import annotations
 
-from .._validation import as_generator, check_int
+from .._validation import check_int
 from ..fitting import fit
 from ..registry import get_strategy
 from ..result import ConsensusResult
@@ -88,8 +88,6 @@ def localize(space, data, method: str = "clap", *, prior=None, radius=None,
     data = space.check_data(data)
     if strategy.uses_hypotheses:
         if hypotheses is None:
-            if prior is None or not space.declared.prior_hypotheses:
-                rng = as_generator(rng)  # one stream for the candidates and the strategy
             hypotheses = space.hypotheses(data, check_int(n_hypotheses, "n_hypotheses", minimum=1),
                                           rng=rng, prior=prior, radius=radius, **(sampling or {}))
         if len(hypotheses) == 0:

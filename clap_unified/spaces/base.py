@@ -125,10 +125,14 @@ class HypothesisSpace(ABC):
 
     @property
     def capabilities(self) -> Capabilities:
-        """The space's declared capabilities with its manifold's."""
-        m = self.manifold
-        return dataclasses.replace(self.declared, split_mean=m.has_split_mean,
-                                   chordal_embedding=m.has_chordal_embedding)
+        """The space's declared capabilities with its manifold's (computed once)."""
+        caps = self.__dict__.get("_capabilities")
+        if caps is None or caps[0] is not self.manifold:
+            m = self.manifold
+            caps = (m, dataclasses.replace(self.declared, split_mean=m.has_split_mean,
+                                           chordal_embedding=m.has_chordal_embedding))
+            self.__dict__["_capabilities"] = caps
+        return caps[1]
 
     @property
     @abstractmethod
