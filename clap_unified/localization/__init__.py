@@ -4,7 +4,8 @@
 and detection simulator (:mod:`.observations`), one-frame localization by
 CLAP, RANSAC or randomized Hough on the same candidates (:mod:`.localize2d`), a walking
 trajectory (:mod:`.trajectory`), an SE(2) EKF (:mod:`.ekf`), Monte Carlo
-localization (:mod:`.mcl`) and the tracking comparison (:mod:`.tracking`).
+localization (:mod:`.mcl`), the tracking comparison (:mod:`.tracking`), and
+detections merged over a window of frames by clustering in input space (:mod:`.merging`).
 
 3D (SE(3)): typed landmark maps and the MoCap lab (:mod:`.map3d`), a MoCap-like
 trajectory and detection simulator (:mod:`.scene3d`), one-frame 6-DoF localization by
@@ -31,6 +32,7 @@ from .localize2d import as_pose, localize2d, observation_data
 from .localize3d import align_correspondences, localize3d, pose_errors
 from .map3d import LandmarkMap3D, lab_map
 from .mcl import ParticleFilter
+from .merging import MergedDetections, merge_detections
 from .observations import (
     FALSE_POSITIVE_KINDS,
     Camera,
@@ -61,45 +63,47 @@ from .tracking import (
 from .trajectory import OdometryInput, Trajectory, TrajectoryTruth, walk_trajectory
 
 __all__ = [
+    "Camera",
+    "DetectionInput3D",
+    "DetectionTruth3D",
+    "Detections3D",
     "FALSE_POSITIVE_KINDS",
     "FIELD_DIMENSIONS",
-    "LANDMARK_TYPES",
-    "Camera",
     "Field",
+    "LANDMARK_TYPES",
+    "LandmarkMap3D",
+    "MergedDetections",
     "ObservationInput",
-    "Observations",
     "ObservationTruth",
-    "field_landmarks",
-    "load_field",
-    "random_frames",
-    "simulate_observations",
-    "visible_landmarks",
-    "localize",
-    "as_pose",
-    "localize2d",
-    "observation_data",
-    "Trajectory",
+    "Observations",
     "OdometryInput",
-    "TrajectoryTruth",
-    "walk_trajectory",
-    "PoseEKF",
     "ParticleFilter",
+    "PoseEKF",
     "TrackingRun",
+    "Trajectory",
+    "TrajectoryTruth",
+    "View3D",
+    "align_correspondences",
+    "as_pose",
+    "associate_nearest",
+    "field_landmarks",
+    "lab_map",
+    "load_field",
+    "localize",
+    "localize2d",
+    "localize3d",
+    "merge_detections",
+    "mocap_trajectory",
+    "observation_data",
+    "pose_errors",
+    "random_frames",
+    "simulate_detections",
     "simulate_frames",
+    "simulate_observations",
     "track_clap_ekf",
     "track_mcl",
     "tracking_errors",
     "tracking_summary",
-    "LandmarkMap3D",
-    "lab_map",
-    "View3D",
-    "Detections3D",
-    "DetectionInput3D",
-    "DetectionTruth3D",
-    "mocap_trajectory",
-    "simulate_detections",
-    "associate_nearest",
-    "localize3d",
-    "align_correspondences",
-    "pose_errors",
+    "visible_landmarks",
+    "walk_trajectory",
 ]
