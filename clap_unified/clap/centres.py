@@ -13,9 +13,6 @@ from .._validation import check_choice
 
 __all__ = ["CENTRES", "cluster_centre"]
 
-#: Names accepted by :func:`cluster_centre`.
-CENTRES = ("medoid", "karcher", "log_euclidean", "split", "median")
-
 
 def cluster_centre(manifold, points, method: str = "medoid", weights=None) -> np.ndarray:
     """Centre of a cluster of hypotheses.
@@ -41,14 +38,24 @@ def cluster_centre(manifold, points, method: str = "medoid", weights=None) -> np
     [0.1, 1.0]
     """
     check_choice(method, "centre", set(CENTRES))
-    if method == "medoid":
-        return np.asarray(points)[manifold.medoid_index(points, weights)]
-    if method == "karcher":
-        return manifold.mean(points, weights)
-    if method == "log_euclidean":
-        return manifold.log_euclidean_mean(points, weights)
-    if method == "median":
-        return manifold.median(points, weights)
-    if not hasattr(manifold, "split_mean"):
+    return CENTRES[method](manifold, points, weights)
+
+
+def _medoid(manifold, points, weights):
+    return np.asarray(points)[manifold.medoid_index(points, weights)]
+
+
+def _split(manifold, points, weights):
+    if not manifold.has_split_mean:
         raise ValueError(f"centre: 'split' needs a space with a split mean; {manifold!r} has none")
     return manifold.split_mean(points, weights)
+
+
+#: Centre name -> ``f(manifold, points, weights)``; the names :func:`cluster_centre` accepts.
+CENTRES = {
+    "medoid": _medoid,
+    "karcher": lambda manifold, points, weights: manifold.mean(points, weights),
+    "log_euclidean": lambda manifold, points, weights: manifold.log_euclidean_mean(points, weights),
+    "split": _split,
+    "median": lambda manifold, points, weights: manifold.median(points, weights),
+}
