@@ -14,6 +14,7 @@ from __future__ import annotations
 import argparse
 import importlib
 import json
+import re
 import sys
 
 from .fitting import fit_line
@@ -72,9 +73,26 @@ def _fit_line(args) -> dict:
                     threshold=args.threshold, rng=args.seed).to_dict()
 
 
+def _join_negative_values(argv: list[str]) -> list[str]:
+    """``--prior -3,-1,0.2`` as ``--prior=-3,-1,0.2``: argparse takes a value that starts with
+    ``-`` (a pose on the negative half of the field) for an option otherwise."""
+    out = []
+    for arg in argv:
+        if out and out[-1].startswith("--") and "=" not in out[-1] and _NUMBERS.match(arg):
+            out[-1] = f"{out[-1]}={arg}"
+        else:
+            out.append(arg)
+    return out
+
+
+#: A comma-separated list of numbers starting with a minus sign.
+_NUMBERS = re.compile(r"^-[0-9.]+([eE][-+]?[0-9]+)?(,[-+]?[0-9.]+([eE][-+]?[0-9]+)?)+$")
+
+
 def main(argv=None) -> int:
     """Entry point of the ``clap-unified`` command."""
-    args = _parser().parse_args(argv)
+    argv = sys.argv[1:] if argv is None else list(argv)
+    args = _parser().parse_args(_join_negative_values(argv))
     try:
         out = args.run(args)
     except (ValueError, OSError) as exc:

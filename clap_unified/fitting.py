@@ -22,7 +22,7 @@ import time
 
 import numpy as np
 
-from ._validation import as_generator, check_int, check_positive
+from ._validation import as_generator, check_array, check_int, check_positive
 from .registry import get_strategy
 from .result import ConsensusResult
 from .spaces.base import HypothesisSet, HypothesisSpace
@@ -127,6 +127,10 @@ def fit(space, data, method: str = "clap", *, n_hypotheses: int = 1000,
             raise ValueError("radius: a prior needs a radius (the gate around it)")
         if np.ndim(radius) == 0:
             radius = check_positive(radius, "radius")
+        else:  # a space-specific gate, e.g. (max_translation, max_rotation)
+            radius = check_array(radius, "radius", shape=(None,))
+            if len(radius) == 0 or np.any(radius <= 0):
+                raise ValueError(f"radius: expected positive bounds, got {radius.tolist()}")
     g = rng  # a Generator is made only when something draws (it costs ~30 us unseeded)
     n = len(data)
     diag = {}
@@ -152,8 +156,9 @@ def fit(space, data, method: str = "clap", *, n_hypotheses: int = 1000,
 
     def failed(reason, **more):
         return ConsensusResult.failure(method, reason, n, n_hyp, space, threshold,
-                                       **diag, **more, generation_seconds=gen,
-                                       seconds=time.perf_counter() - t0)
+                                       **{**diag, **more, "hypotheses": n_hyp,
+                                          "generation_seconds": gen,
+                                          "seconds": time.perf_counter() - t0})
 
     if candidates is not None and (len(candidates) == 0 or diag.get("near_prior") == 0):
         if prior is not None and n_hyp:
@@ -171,6 +176,8 @@ def fit(space, data, method: str = "clap", *, n_hypotheses: int = 1000,
                     for c in clusters]
         support = np.zeros(n_hyp, bool)
         support[keep[np.flatnonzero(consensus.support)]] = True
+        if "best_hypothesis" in diag:  # RANSAC's winner, an index like the members
+            diag["best_hypothesis"] = int(keep[diag["best_hypothesis"]])
     centre = consensus.model
     if refine:
         model, inliers = space.refine(centre, data, threshold)
@@ -192,13 +199,22 @@ def _describe(radius) -> str:
     return f"{radius:g}" if np.ndim(radius) == 0 else str(tuple(float(r) for r in radius))
 
 
-@functools.lru_cache(maxsize=64)
 def _own_options(run) -> tuple[str, ...] | None:
-    """The keyword options of a strategy's ``run`` (``None``: it takes any)."""
+    """The keyword options of a strategy's ``run`` (``None``: it takes any); looked up once."""
+    try:
+        return _cached_options(run)
+    except TypeError:  # an unhashable callable: no cache
+        return _options_of(run)
+
+
+def _options_of(run) -> tuple[str, ...] | None:
     params = inspect.signature(run).parameters
     if any(p.kind is p.VAR_KEYWORD for p in params.values()):
         return None
     return tuple(k for k, p in params.items() if p.kind is p.KEYWORD_ONLY and k not in COMMON)
+
+
+_cached_options = functools.lru_cache(maxsize=64)(_options_of)
 
 
 def _check_options(strategy, options) -> None:

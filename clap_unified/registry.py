@@ -28,6 +28,7 @@ A toy strategy that takes the first hypothesis, registered, run and removed:
 
 from __future__ import annotations
 
+import threading
 from collections.abc import Callable
 from dataclasses import dataclass
 
@@ -101,6 +102,7 @@ class Strategy:
 
 
 _REGISTRY: dict[str, Strategy] = {}
+_LOCK = threading.Lock()  # registration from several threads stays consistent
 
 
 def register_strategy(strategy: Strategy, *, replace: bool = False) -> Strategy:
@@ -110,20 +112,24 @@ def register_strategy(strategy: Strategy, *, replace: bool = False) -> Strategy:
     if not strategy.name or not strategy.name.replace("_", "").isalnum():
         raise ValueError(f"strategy: name must be a word of letters, digits and underscores, "
                          f"got {strategy.name!r}")
-    if strategy.name in _REGISTRY and not replace:
-        raise ValueError(f"strategy: {strategy.name!r} is already registered")
-    _REGISTRY[strategy.name] = strategy
+    with _LOCK:
+        if strategy.name in _REGISTRY and not replace:
+            raise ValueError(f"strategy: {strategy.name!r} is already registered")
+        _REGISTRY[strategy.name] = strategy
     return strategy
 
 
 def unregister_strategy(name: str) -> None:
     """Remove a registered strategy (for tests and plug-ins)."""
-    _REGISTRY.pop(name, None)
+    with _LOCK:
+        _REGISTRY.pop(name, None)
 
 
 def strategy_names(space=None) -> tuple[str, ...]:
     """Registered strategy names, in registration order; with ``space``, those that apply."""
-    return tuple(n for n, s in _REGISTRY.items() if space is None or s.applies(space))
+    with _LOCK:
+        items = list(_REGISTRY.items())
+    return tuple(n for n, s in items if space is None or s.applies(space))
 
 
 def get_strategy(name: str, space=None) -> Strategy:

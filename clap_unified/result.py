@@ -43,6 +43,9 @@ class Cluster:
         object.__setattr__(self, "model", _locked(self.model))
         object.__setattr__(self, "members", _locked(self.members))
 
+    def __reduce__(self):  # unpickling runs __post_init__: the copy is frozen too
+        return (Cluster, (self.model, self.support, self.spread, self.members))
+
 
 def _locked(value):
     """A read-only view of an array built for a result (no copy); other values as they are."""
@@ -161,6 +164,9 @@ class ConsensusResult:
             object.__setattr__(self, name, _locked(getattr(self, name)))
         object.__setattr__(self, "clusters", tuple(self.clusters))
         object.__setattr__(self, "diagnostics", ReadOnlyDict(self.diagnostics))
+
+    def __reduce__(self):  # unpickling runs __post_init__: the copy is frozen too
+        return (ConsensusResult, tuple(getattr(self, f.name) for f in dataclasses.fields(self)))
 
     def __bool__(self) -> bool:
         return bool(self.success)

@@ -1,4 +1,4 @@
-"""Review of the fit redesign: defects found, each shown by a failing (xfail strict) test."""
+"""Review of the fit redesign: defects a reviewer found, each kept as a test of its fix."""
 
 from __future__ import annotations
 
@@ -29,9 +29,6 @@ def line_problem():
     return space, pts, hyps, prior, radius
 
 
-@pytest.mark.xfail(strict=True, reason="fitting.py maps support and cluster members back to the "
-                   "full HypothesisSet after gating, but not RANSAC's "
-                   "diagnostics['best_hypothesis'], which still indexes the gated subset")
 def test_ransac_best_hypothesis_indexes_the_full_hypothesis_set(line_problem):
     space, pts, hyps, prior, radius = line_problem
     res = fit(space, pts, "ransac", threshold=0.06, rng=3, hypotheses=hyps, prior=prior,
@@ -42,18 +39,12 @@ def test_ransac_best_hypothesis_indexes_the_full_hypothesis_set(line_problem):
     assert np.array_equal(res.clusters[0].members, [best])
 
 
-@pytest.mark.xfail(strict=True, reason="fit validates a scalar radius only; a radius of the "
-                   "wrong shape reaches numpy and fails with a broadcasting error that does "
-                   "not name the argument")
 def test_radius_of_wrong_shape_is_a_value_error_naming_radius(line_problem):
     space, pts, hyps, prior, _ = line_problem
     with pytest.raises(ValueError, match="radius"):
         fit(space, pts, "ransac", threshold=0.06, rng=0, prior=prior, radius=(0.1, 0.2))
 
 
-@pytest.mark.xfail(strict=True, reason="fit sets diagnostics['hypotheses'] on success only; a "
-                   "failed result built after hypotheses were generated does not say how many "
-                   "(the localize CLIs then print 'candidates': 0)")
 def test_failed_result_still_counts_the_hypotheses(line_problem):
     space, pts, hyps, prior, radius = line_problem
     res = fit(space, pts, "clap", threshold=0.06, hypotheses=hyps, min_support=10_000)
@@ -61,9 +52,6 @@ def test_failed_result_still_counts_the_hypotheses(line_problem):
     assert res.diagnostics.get("hypotheses") == len(hyps)
 
 
-@pytest.mark.xfail(strict=True, reason="fitting._own_options is an lru_cache keyed on the "
-                   "strategy's run: a callable that is not hashable (a plain dataclass instance) "
-                   "makes fit raise TypeError")
 def test_a_strategy_may_be_an_unhashable_callable(line_problem):
     space, pts, *_ = line_problem
 
@@ -86,9 +74,6 @@ def test_a_strategy_may_be_an_unhashable_callable(line_problem):
     assert res.success
 
 
-@pytest.mark.xfail(strict=True, reason="results are frozen by setting flags in __post_init__, "
-                   "which unpickling does not run: a result sent to another process (reproduce "
-                   "--jobs) comes back with writeable arrays")
 def test_a_pickled_result_stays_frozen(line_problem):
     space, pts, *_ = line_problem
     res = pickle.loads(pickle.dumps(fit(space, pts, "clap", threshold=0.06, rng=0)))
@@ -97,9 +82,6 @@ def test_a_pickled_result_stays_frozen(line_problem):
     assert not res.clusters[0].model.flags.writeable
 
 
-@pytest.mark.xfail(strict=True, reason="argparse takes '--prior -3,-1,0.2' (a prior with a "
-                   "negative x, half the field) for an option and exits with status 2; only "
-                   "'--prior=-3,-1,0.2' works, which README does not say")
 def test_cli_prior_with_negative_x(tmp_path, capsys):
     truth = SE2.from_xytheta(-3.0, -1.0, 0.2)
     obs = simulate_observations(load_field("adult"), truth, false_positive_rate=0.0, rng=1)

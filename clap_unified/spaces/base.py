@@ -207,6 +207,9 @@ class HypothesisSpace(ABC):
         may compute it with other distances at once); a space may accept other
         gate specifications besides (e.g. a translation and a rotation bound).
         """
+        if np.ndim(radius) != 0:
+            raise ValueError(f"radius: the {self.name} space gates with one distance, got "
+                             f"{np.asarray(radius).tolist()}")
         return self.manifold.distance(prior, models) <= radius
 
     def inliers(self, model, data: np.ndarray, threshold: float) -> np.ndarray:
