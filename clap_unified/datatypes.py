@@ -52,23 +52,12 @@ def readonly(array, dtype=None) -> np.ndarray:
     return out
 
 
-def freeze_arrays(obj, *, copy: bool = True) -> None:
-    """Make every ndarray field of the frozen dataclass ``obj`` read-only.
-
-    With ``copy`` (the loaders' choice) each becomes a read-only copy, so the
-    caller's arrays are neither aliased nor locked. Without it (results built
-    from arrays their builder owns) each becomes a read-only view: no copy,
-    the same protection for whoever holds the object.
-    """
+def freeze_arrays(obj) -> None:
+    """Replace every ndarray field of the frozen dataclass ``obj`` by a read-only copy."""
     for f in dataclasses.fields(obj):
         value = getattr(obj, f.name)
         if isinstance(value, np.ndarray):
-            if copy:
-                frozen = readonly(value)
-            else:
-                frozen = value.view()
-                frozen.flags.writeable = False
-            object.__setattr__(obj, f.name, frozen)
+            object.__setattr__(obj, f.name, readonly(value))
 
 
 class ReadOnlyDict(dict):

@@ -16,6 +16,7 @@ and every command of the CLI goes through :func:`fit`.
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 import inspect
 import time
@@ -160,9 +161,9 @@ def fit(space, data, method: str = "clap", *, n_hypotheses: int = 1000,
                                           "generation_seconds": gen,
                                           "seconds": time.perf_counter() - t0})
 
-    if candidates is not None and (len(candidates) == 0 or diag.get("near_prior") == 0):
+    if candidates is not None and len(candidates) == 0:
         if prior is not None and n_hyp:
-            return failed(f"no hypothesis within radius {_describe(radius)} of the prior "
+            return failed(f"no hypothesis within radius {describe_radius(radius)} of the prior "
                           f"({n_hyp} generated)")
         return failed("no hypotheses: every minimal sample was degenerate")
     consensus = strategy.run(space, data, candidates, threshold=threshold, prior=prior,
@@ -172,8 +173,7 @@ def fit(space, data, method: str = "clap", *, n_hypotheses: int = 1000,
         return failed(consensus.reason)
     clusters, support = list(consensus.clusters), consensus.support
     if keep is not None:  # indices into the candidates -> into the hypotheses
-        clusters = [c.__class__(c.model, c.support, c.spread, keep[c.members])
-                    for c in clusters]
+        clusters = [dataclasses.replace(c, members=keep[c.members]) for c in clusters]
         support = np.zeros(n_hyp, bool)
         support[keep[np.flatnonzero(consensus.support)]] = True
         if "best_hypothesis" in diag:  # RANSAC's winner, an index like the members
@@ -195,7 +195,8 @@ def fit(space, data, method: str = "clap", *, n_hypotheses: int = 1000,
                            clusters, diag, space, threshold)
 
 
-def _describe(radius) -> str:
+def describe_radius(radius) -> str:
+    """A gate for messages: ``0.5`` or ``(0.5, 0.17)``."""
     return f"{radius:g}" if np.ndim(radius) == 0 else str(tuple(float(r) for r in radius))
 
 

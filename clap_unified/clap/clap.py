@@ -20,7 +20,7 @@ from __future__ import annotations
 import numpy as np
 
 from .._validation import check_choice, check_int, check_positive
-from ..fitting import fit
+from ..fitting import describe_radius, fit
 from ..registry import Strategy, register_strategy
 from ..result import Cluster, Consensus, ConsensusResult, runner_up_ratio
 from ..spaces.base import HypothesisSet
@@ -167,8 +167,9 @@ def run_clap(space, data, hypotheses: HypothesisSet, *, threshold: float, prior=
             sub = manifold.pairwise_distance(models[near]) if centre == "medoid" else None
         diag["near_prior"] = len(near)
         if len(near) < min_support:
-            return Consensus.failed(f"only {len(near)} hypotheses within radius {_fmt(radius)} "
-                                    f"of the prior (min_support={min_support})", **diag)
+            return Consensus.failed(f"only {len(near)} hypotheses within radius "
+                                    f"{describe_radius(radius)} of the prior "
+                                    f"(min_support={min_support})", **diag)
         local = models[near]
         if centre == "medoid" and rejection == "trim":  # all from the one matrix
             b, keep = trimmed_medoid_index(sub, rounds=rounds, discard_fraction=discard_fraction)
@@ -242,10 +243,6 @@ def run_clap(space, data, hypotheses: HypothesisSet, *, threshold: float, prior=
     support = np.zeros(len(hypotheses), bool)
     support[best.members] = True
     return Consensus(best.model, tuple(clusters), support, float(best.support), "ok", diag)
-
-
-def _fmt(radius) -> str:
-    return f"{radius:g}" if np.ndim(radius) == 0 else str(tuple(float(r) for r in radius))
 
 
 register_strategy(Strategy(

@@ -74,15 +74,11 @@ def line_accumulator(points, *, theta_resolution: float = np.pi / 180,
     return LineAccumulator(votes, thetas, rhos, o)
 
 
-def _radius(rel) -> float:
-    return float(np.max(np.hypot(rel[:, 0], rel[:, 1]))) if len(rel) else 0.0
-
-
 def _rho_grid(pts, rho_resolution, origin):
     """Origin, points relative to it, the rho step and the rho cell centres."""
     o = pts.mean(axis=0) if origin is None else np.asarray(origin, dtype=float)
     rel = pts - o
-    r_max = _radius(rel)
+    r_max = float(np.max(np.hypot(rel[:, 0], rel[:, 1]))) if len(rel) else 0.0
     if rho_resolution is None:
         rho_resolution = max(2 * r_max / 200, 1e-12)
     dr = check_positive(rho_resolution, "rho_resolution")

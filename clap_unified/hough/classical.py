@@ -90,8 +90,6 @@ def run_hough(space, data, hypotheses=None, *, threshold: float, prior=None, rad
 
 def _default_threshold(space, data, options) -> float:
     """Half a rho cell would miss points on a cell edge: the larger of a cell and the default."""
-    if len(data) < 2:
-        return space.default_threshold(data)
     return max(space.default_threshold(data), rho_step(data, options.get("rho_resolution")))
 
 
