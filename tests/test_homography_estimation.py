@@ -86,7 +86,8 @@ def test_every_metric_gives_the_same_answer_after_refit(metric):
 
 
 def test_protocol_defaults_are_the_papers():
-    clap = PROTOCOLS["clap"]
+    clap = PROTOCOLS["clap_paper"]
+    assert clap["strategy"] == "clap"
     assert {k: clap[k] for k in ("n_hypotheses", "rounds", "discard_fraction",
                                  "bandwidth_quantile", "threshold", "polish")} == {
         "n_hypotheses": 400, "rounds": 5, "discard_fraction": 0.2, "bandwidth_quantile": 0.02,

@@ -17,6 +17,8 @@ hypothesis space instead of scoring each hypothesis against the data:
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 
 from .._validation import check_choice, check_int, check_positive
@@ -25,7 +27,13 @@ from ..registry import Strategy, register_strategy
 from ..result import Cluster, Consensus, ConsensusResult, runner_up_ratio
 from ..spaces.base import HypothesisSet
 from .centres import CENTRES, cluster_centre
-from .density import auto_bandwidth, dense_candidates, neighbour_counts
+from .density import (
+    EmbeddedNeighbours,
+    auto_bandwidth,
+    dense_candidates,
+    knn_distance,
+    neighbour_counts,
+)
 from .rejection import mad_centre, trimmed_centre, trimmed_medoid_index
 
 __all__ = ["clap", "run_clap"]
@@ -76,7 +84,8 @@ def run_clap(space, data, hypotheses: HypothesisSet, *, threshold: float, prior=
              bandwidth_quantile: float = 0.1, centre: str = "medoid", rejection: str = "trim",
              rounds: int = 5, discard_fraction: float = 0.2, mad_k: float = 3.0,
              max_clusters: int = 5, min_support: int = 3, suppress: float = 3.0,
-             prune: bool = False) -> Consensus:
+             prune: bool = False, density: str = "count", k: int = 2, select: str = "support",
+             n_refine: int = 3) -> Consensus:
     """The CLAP strategy: the centre of the densest cluster of hypotheses.
 
     Called by :func:`~clap_unified.fit`, which generates the hypotheses, gates
@@ -86,10 +95,14 @@ def run_clap(space, data, hypotheses: HypothesisSet, *, threshold: float, prior=
     ----------
     space : HypothesisSpace
     data : ndarray
-        Checked data (unused: CLAP works in hypothesis space).
+        Checked data (read only with ``select="consensus"``: otherwise CLAP works
+        in hypothesis space alone).
     hypotheses : HypothesisSet
-    threshold, rng, n_hypotheses
-        Unused (the inlier threshold is applied by :func:`~clap_unified.fit`).
+    threshold : float
+        The data-space inlier threshold (used by ``select="consensus"``;
+        otherwise applied by :func:`~clap_unified.fit` only).
+    rng, n_hypotheses
+        Unused.
     prior : ndarray, optional
         Local mode: the hypotheses within ``radius`` of the prior
         (``space.near_prior``; CLAP applies the gate itself, computing the
@@ -125,6 +138,29 @@ def run_clap(space, data, hypotheses: HypothesisSet, *, threshold: float, prior=
         with fewer than ``min_support`` others within ``2 * bandwidth``
         (:func:`~clap_unified.clap.density.dense_candidates`); they cannot join
         a cluster, and the pairwise matrix shrinks to the dense few.
+    density : {"count", "knn"}
+        Global mode: how seeds are ordered. ``"count"`` (the paper): by the
+        number of hypotheses within ``bandwidth``. ``"knn"``: by the distance
+        to the ``k``-th nearest other hypothesis, smallest first (a density
+        estimate that needs no bandwidth and ranks even a tight pair of
+        hypotheses when correct ones are rare); ``bandwidth`` then only sets
+        the cluster around a seed and, with ``suppress``, the region it
+        suppresses.
+    k : int
+        With ``density="knn"``: the neighbour whose distance ranks the seeds.
+    select : {"support", "consensus"}
+        Which cluster is the answer. ``"support"`` (the paper): the one with
+        the most hypotheses. ``"consensus"``: the clusters' centres are scored
+        against the data by their truncated squared residuals (MSAC:
+        ``sum(min(r^2, threshold^2))``, lower is better); the ``n_refine``
+        best are refined by ``space.refine`` (local optimisation on their
+        inliers) and scored again; the clusters are reported in that order
+        (``diagnostics["consensus_costs"]``). Density then proposes a few
+        candidate answers and the data decide between them; a second,
+        coherent motion in the data stays visible as a second cluster.
+    n_refine : int
+        With ``select="consensus"``: cluster centres refined before the final
+        ranking.
 
     Returns
     -------
@@ -135,6 +171,10 @@ def run_clap(space, data, hypotheses: HypothesisSet, *, threshold: float, prior=
     """
     check_choice(centre, "centre", set(CENTRES))
     check_choice(rejection, "rejection", {"trim", "mad", "none"})
+    check_choice(select, "select", {"support", "consensus"})
+    check_choice(density, "density", {"count", "knn"})
+    k = check_int(k, "k", minimum=1)
+    n_refine = check_int(n_refine, "n_refine", minimum=0)
     max_clusters = check_int(max_clusters, "max_clusters", minimum=1)
     suppress = check_positive(suppress, "suppress")
     min_support = check_int(min_support, "min_support", minimum=1)
@@ -191,41 +231,67 @@ def run_clap(space, data, hypotheses: HypothesisSet, *, threshold: float, prior=
                                         f"{2 * bandwidth:g}", **diag)
             models = models[index]
             h = len(models)
-        # One distance matrix when it fits in memory (~130 MB at 4000 hypotheses),
-        # otherwise blocks recomputed on demand.
-        dist = manifold.pairwise_distance(models) if h <= DENSE_LIMIT else None
-        if bandwidth is None:
-            bw = auto_bandwidth(manifold, models, quantile=bandwidth_quantile, distances=dist)
-        else:
+        # Neighbour queries: a k-d tree when the manifold's embedding distance is its
+        # distance (no H x H matrix at any size), else one distance matrix when it fits
+        # in memory (~130 MB at 4000 hypotheses), else blocks recomputed on demand.
+        tree = (EmbeddedNeighbours(manifold, models)
+                if getattr(manifold, "embedding_is_distance", False) else None)
+        dist = manifold.pairwise_distance(models) if tree is None and h <= DENSE_LIMIT else None
+        if bandwidth is not None:
             bw = bandwidth
+        elif tree is not None:
+            bw = tree.auto_bandwidth(quantile=bandwidth_quantile)
+        else:
+            bw = auto_bandwidth(manifold, models, quantile=bandwidth_quantile, distances=dist)
         diag["bandwidth"] = bw
-        counts = (np.count_nonzero(dist <= bw, axis=1) if dist is not None
-                  else neighbour_counts(manifold, models, bw))
+        if density == "knn":  # seeds by their k-th neighbour distance, any support
+            knn = (tree.knn(k) if tree is not None
+                   else knn_distance(manifold, models, k, distances=dist))
+            order = np.argsort(knn, kind="stable")
+            counts = np.where(np.isfinite(knn), min_support, 0)
+        else:
+            if tree is not None:
+                counts = tree.counts(bw)
+            elif dist is not None:
+                counts = np.count_nonzero(dist <= bw, axis=1)
+            else:
+                counts = neighbour_counts(manifold, models, bw)
+            order = np.argsort(-counts, kind="stable")
         available = np.ones(h, bool)
-        for seed in np.argsort(-counts, kind="stable"):
+        for seed in order:
             if len(clusters) == max_clusters or counts[seed] < min_support:
                 break
             if not available[seed]:
                 continue
-            d_seed = dist[seed] if dist is not None else manifold.distance(models[seed], models)
-            near = np.flatnonzero(available & (d_seed <= bw))
-            available &= d_seed > suppress * bw
+            if tree is not None:
+                near = tree.ball(seed, bw)
+                near = near[available[near]]
+                available[tree.ball(seed, suppress * bw)] = False
+                sub = manifold.pairwise_distance(models[near]) if len(near) else None
+            else:
+                d_seed = (dist[seed] if dist is not None
+                          else manifold.distance(models[seed], models))
+                near = np.flatnonzero(available & (d_seed <= bw))
+                available &= d_seed > suppress * bw
+                sub = dist[np.ix_(near, near)] if dist is not None else None
             if len(near) < min_support:
                 continue
-            sub = dist[np.ix_(near, near)] if dist is not None else None
             if sub is not None and centre == "medoid" and rejection == "trim":
                 b, keep = trimmed_medoid_index(sub, rounds=rounds,
                                                discard_fraction=discard_fraction)
-                d_centre = dist[near[b]]  # the medoid is a hypothesis: its row is known
-                c = models[near[b]]
-                spread = _median(d_centre[near[keep]])
+                c = models[near[b]]  # the medoid is a hypothesis: its row is known
+                spread = _median(sub[b, keep])
+                d_centre = dist[near[b]] if dist is not None else None
             else:
                 c, keep = _robust_centre(manifold, models[near], distances=sub, **robust)
-                d_centre = manifold.distance(c, models)
+                d_centre = manifold.distance(c, models) if tree is None else None
                 spread = None
             # suppress around the centre too, so the rest of a wide cluster cannot
             # seed a second "possibility" that is the same answer
-            available &= d_centre > suppress * bw
+            if tree is not None:
+                available[tree.ball_of(manifold.chordal_embedding(c), suppress * bw)] = False
+            else:
+                available &= d_centre > suppress * bw
             members = index[near[keep]]
             clusters.append(_cluster(manifold, c, models, near[keep], support=len(near),
                                      members=members)
@@ -236,6 +302,9 @@ def run_clap(space, data, hypotheses: HypothesisSet, *, threshold: float, prior=
                                     f"bandwidth {bw:.3g}", **diag)
         clusters.sort(key=lambda cl: -cl.support)
 
+    if select == "consensus":
+        clusters, costs = _by_consensus(space, data, clusters, threshold, n_refine)
+        diag["consensus_costs"] = costs
     best = clusters[0]
     diag["clusters"] = len(clusters)
     diag["spread"] = best.spread
@@ -248,6 +317,26 @@ def run_clap(space, data, hypotheses: HypothesisSet, *, threshold: float, prior=
 register_strategy(Strategy(
     "clap", run_clap, gates_prior=True,
     summary="density centres of the hypotheses in their own space (the paper's method)"))
+
+
+def _msac_cost(space, models, data, threshold) -> np.ndarray:
+    """Truncated squared residuals ``sum(min(r^2, t^2))`` of each model (lower is better)."""
+    r = space.residuals(models, data)
+    return np.minimum(r * r, threshold * threshold).sum(axis=1)
+
+
+def _by_consensus(space, data, clusters, threshold, n_refine):
+    """Clusters ordered by the MSAC cost of their centres, the best few refined first."""
+    cost = _msac_cost(space, np.stack([c.model for c in clusters]), data, threshold)
+    clusters = list(clusters)
+    for j in np.argsort(cost, kind="stable")[:n_refine]:
+        model, _ = space.refine(clusters[j].model, data, threshold)
+        refined = _msac_cost(space, model[None], data, threshold)[0]
+        if refined < cost[j]:
+            clusters[j] = dataclasses.replace(clusters[j], model=model)
+            cost[j] = refined
+    order = np.argsort(cost, kind="stable")
+    return [clusters[j] for j in order], cost[order]
 
 
 def _median(values) -> float:

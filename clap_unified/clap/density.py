@@ -6,7 +6,8 @@ import numpy as np
 
 from ..geometry.base import PAIRWISE_BLOCK
 
-__all__ = ["auto_bandwidth", "dense_candidates", "knn_distance", "neighbour_counts"]
+__all__ = ["EmbeddedNeighbours", "auto_bandwidth", "dense_candidates", "knn_distance",
+           "neighbour_counts"]
 
 
 def neighbour_counts(manifold, points, bandwidth: float) -> np.ndarray:
@@ -132,3 +133,84 @@ def dense_candidates(manifold, models, radius: float, min_count: int) -> np.ndar
     emb = manifold.chordal_embedding(models)
     counts = cKDTree(emb).query_ball_point(emb, radius, return_length=True)
     return np.flatnonzero(counts >= min_count)
+
+
+class EmbeddedNeighbours:
+    """Neighbour queries on a k-d tree, for manifolds whose embedding distance is the distance.
+
+    A manifold that declares ``embedding_is_distance`` (e.g.
+    :class:`~clap_unified.geometry.homography_transfer.HomographyTransfer`)
+    gives every point a vector whose Euclidean distance is the manifold's
+    distance, so counts, k-th neighbour distances and balls come from
+    :class:`scipy.spatial.cKDTree` in ``O(H log H)`` time and ``O(H)``
+    memory: no ``H x H`` matrix at any size. Points without an embedding
+    (NaN rows) have no neighbours and are no one's neighbour.
+
+    Parameters
+    ----------
+    manifold : Manifold
+        With ``embedding_is_distance = True``.
+    points : ndarray
+        Points of the manifold, shape ``(H, *point_shape)``.
+
+    Examples
+    --------
+    >>> from clap_unified.geometry.homography_transfer import HomographyTransfer
+    >>> g = HomographyTransfer(np.zeros((1, 2)))
+    >>> H = np.repeat(np.eye(3)[None], 4, axis=0)
+    >>> H[:, 0, 2] = [0.0, 1.0, 2.0, 10.0]              # shifts of 0, 1, 2 and 10 px
+    >>> nb = EmbeddedNeighbours(g, H)
+    >>> nb.counts(1.5).tolist(), nb.knn(1).tolist()
+    ([2, 3, 2, 1], [1.0, 1.0, 1.0, 8.0])
+    """
+
+    def __init__(self, manifold, points):
+        from scipy.spatial import cKDTree
+
+        emb = np.asarray(manifold.chordal_embedding(points), dtype=float)
+        self.manifold = manifold
+        self.embedding = emb
+        self.valid = np.all(np.isfinite(emb), axis=1)
+        self.index = np.flatnonzero(self.valid)
+        self.tree = cKDTree(emb[self.valid]) if len(self.index) else None
+
+    def __len__(self) -> int:
+        return len(self.embedding)
+
+    def knn(self, k: int) -> np.ndarray:
+        """Distance of each point to its ``k``-th nearest other point (``inf``: none)."""
+        out = np.full(len(self), np.inf)
+        if self.tree is None or len(self.index) < 2:
+            return out
+        k = min(k, len(self.index) - 1)
+        d = self.tree.query(self.embedding[self.index], k + 1)[0]
+        out[self.index] = d[:, k]
+        return out
+
+    def counts(self, radius: float) -> np.ndarray:
+        """Points within ``radius`` of each point, itself included (0 without an embedding)."""
+        out = np.zeros(len(self), dtype=np.intp)
+        if self.tree is not None:
+            out[self.index] = self.tree.query_ball_point(self.embedding[self.index], radius,
+                                                         return_length=True)
+        return out
+
+    def ball(self, i: int, radius: float) -> np.ndarray:
+        """Indices of the points within ``radius`` of point ``i``, sorted."""
+        return self.ball_of(self.embedding[i], radius)
+
+    def ball_of(self, vector, radius: float) -> np.ndarray:
+        """Indices of the points within ``radius`` of an embedded ``vector``, sorted."""
+        if self.tree is None or not np.all(np.isfinite(vector)):
+            return np.zeros(0, dtype=np.intp)
+        return np.sort(self.index[self.tree.query_ball_point(vector, radius)])
+
+    def auto_bandwidth(self, *, k: int | None = None, quantile: float = 0.1) -> float:
+        """:func:`auto_bandwidth` from the tree (the same rule, no matrix)."""
+        n = len(self.index)
+        if n < 2:
+            return np.inf
+        k = max(3, int(np.ceil(0.01 * len(self)))) if k is None else k
+        d = self.knn(min(k, n - 1))[self.index]
+        bw = float(np.quantile(d, quantile))
+        return bw if bw > 0 else float(np.min(d[d > 0], initial=np.inf))

@@ -14,14 +14,12 @@ from pathlib import Path
 import numpy as np
 
 from ..io import read_points_csv
-from ..registry import strategy_names
-from ..spaces.homography import HomographySpace
-from .estimate import MIN_MATCHES, estimate_homography
+from .estimate import MIN_MATCHES, estimate_homography, method_names
 
 __all__ = ["fit_homography_command", "register", "stitch_command"]
 
-#: ``--method`` choices: every registered strategy that works in the homography space.
-METHODS = strategy_names(HomographySpace())
+#: ``--method`` choices: the protocols and every registered homography strategy.
+METHODS = method_names()
 
 
 def register(sub) -> None:

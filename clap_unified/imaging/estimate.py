@@ -37,17 +37,23 @@ from ..result import ConsensusResult
 from ..spaces.homography import HomographySpace
 
 __all__ = ["DEFAULT_PROTOCOL", "MIN_MATCHES", "PROTOCOLS", "clap_homography",
-           "estimate_homography", "ransac_homography"]
+           "estimate_homography", "method_names", "ransac_homography", "strategy_of"]
 
-#: Per strategy name, the defaults of :func:`estimate_homography`. Keys:
-#: ``frame`` (compare hypotheses in the normalised frame of the matches,
-#: :meth:`HomographySpace.for_data`), ``metric`` (its distance), ``polish``
-#: (the space's refinement ends with the reweighted DLT); every other key is
-#: an argument of :func:`~clap_unified.fit` or an option of the strategy.
+#: Per method name, the defaults of :func:`estimate_homography`. Keys:
+#: ``strategy`` (the registered strategy a protocol of another name runs;
+#: default: the method name itself), ``frame`` (compare hypotheses in a frame
+#: of the matches, :meth:`HomographySpace.for_data`), ``metric`` (its
+#: distance), ``polish`` (the space's refinement ends with the reweighted
+#: DLT); every other key is an argument of :func:`~clap_unified.fit` or an
+#: option of the strategy.
 PROTOCOLS = {
-    "clap": {"frame": True, "metric": "lie_linear", "polish": True, "n_hypotheses": 400,
-             "threshold": 3.0, "bandwidth_quantile": 0.02, "rounds": 5,
-             "discard_fraction": 0.2},
+    "clap": {"frame": True, "metric": "transfer", "polish": True, "n_hypotheses": 1000,
+             "threshold": 3.0, "density": "knn", "k": 2, "bandwidth": 3.0, "suppress": 3.0,
+             "rounds": 0, "max_clusters": 16, "min_support": 1, "select": "consensus",
+             "n_refine": 3},
+    "clap_paper": {"strategy": "clap", "frame": True, "metric": "lie_linear", "polish": True,
+                   "n_hypotheses": 400, "threshold": 3.0, "bandwidth_quantile": 0.02,
+                   "rounds": 5, "discard_fraction": 0.2},
     "ransac": {"frame": False, "polish": False, "n_hypotheses": 1000, "threshold": 3.0},
     "randomized_hough": {"frame": True, "metric": "lie_linear", "polish": False,
                          "n_hypotheses": 400, "threshold": 3.0, "cell_size": 0.05},
@@ -67,6 +73,31 @@ MIN_MATCHES = 8
 _SPACE_KEYS = {"frame": False, "metric": "lie_linear", "polish": False}
 
 
+def method_names() -> tuple[str, ...]:
+    """Every name :func:`estimate_homography` accepts: protocols and homography strategies.
+
+    Examples
+    --------
+    >>> {"clap", "clap_paper", "ransac"} <= set(method_names())
+    True
+    """
+    from ..registry import strategy_names
+
+    names = strategy_names(HomographySpace())
+    return tuple(dict.fromkeys([*names, *(m for m in PROTOCOLS if m not in names)]))
+
+
+def strategy_of(method: str) -> str:
+    """The registered strategy that ``method`` (a protocol or strategy name) runs.
+
+    Examples
+    --------
+    >>> strategy_of("clap_paper"), strategy_of("magsac")
+    ('clap', 'magsac')
+    """
+    return PROTOCOLS.get(method, {}).get("strategy", method)
+
+
 def estimate_homography(matches, method: str = "clap", *, rng=None, quality=None,
                         **options) -> ConsensusResult:
     """Homography from ``matches`` by ``method`` with its protocol in :data:`PROTOCOLS`.
@@ -77,8 +108,9 @@ def estimate_homography(matches, method: str = "clap", *, rng=None, quality=None
         Rows ``(x1, y1, x2, y2)``; ``H`` maps point 1 to point 2. At least
         :data:`MIN_MATCHES`.
     method : str
-        A registered strategy that applies to homographies
-        (``strategy_names(HomographySpace())``).
+        A protocol of :data:`PROTOCOLS` or a registered strategy that applies
+        to homographies (:func:`method_names`). ``"clap"`` is the library's
+        default CLAP, ``"clap_paper"`` the paper's protocol.
     rng : None, int or numpy.random.Generator
     quality : ndarray of shape (N,), optional
         Per-match quality, lower is better: progressive sampling of the
@@ -120,16 +152,21 @@ def estimate_homography(matches, method: str = "clap", *, rng=None, quality=None
         raise ValueError(f"matches: too few matches ({len(data)}); at least {MIN_MATCHES} "
                          "are needed for a robust homography")
     settings = {**_SPACE_KEYS, **PROTOCOLS.get(method, DEFAULT_PROTOCOL), **options}
+    strategy = settings.pop("strategy", method)
     frame, metric, polish = (settings.pop(k) for k in _SPACE_KEYS)
     space = (HomographySpace.for_data(data, metric=metric, polish=polish) if frame
              else HomographySpace(polish=polish))
     sampling = None if quality is None else {"quality": quality}
-    return fit(space, data, method, rng=rng, sampling=sampling, **settings)
+    res = fit(space, data, strategy, rng=rng, sampling=sampling, **settings)
+    return res if strategy == method else res.replace(method=method)
 
 
 def clap_homography(matches, **options) -> ConsensusResult:
-    """CLAP with the paper's protocol: ``estimate_homography(matches, "clap", **options)``."""
-    return estimate_homography(matches, "clap", **options)
+    """CLAP with the paper's protocol: ``estimate_homography(matches, "clap_paper", **options)``.
+
+    The library's default CLAP for homographies is ``estimate_homography(matches, "clap")``.
+    """
+    return estimate_homography(matches, "clap_paper", **options)
 
 
 def ransac_homography(matches, **options) -> ConsensusResult:

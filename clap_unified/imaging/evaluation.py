@@ -18,16 +18,16 @@ import numpy as np
 
 from ..registry import get_strategy
 from .datasets.homography_benchmarks import HomographyInput, HomographyTruth
-from .estimate import estimate_homography
+from .estimate import estimate_homography, strategy_of
 from .metrics import corner_error, lie_error, symmetric_reprojection_error
 
 __all__ = ["EVALUATED", "PairMatches", "evaluate_pair", "evaluate_trials", "shuffled_pair",
            "summarise", "vpg_pair_matches"]
 
-#: Methods compared by default: label -> (estimator name, uses match quality).
+#: Methods compared by default (the paper's): label -> (method name, uses match quality).
 EVALUATED = {
-    "CLAP": ("clap", False),
-    "CLAP ordered": ("clap", True),
+    "CLAP": ("clap_paper", False),
+    "CLAP ordered": ("clap_paper", True),
     "RANSAC (library)": ("ransac", False),
     "cv2.RANSAC": ("cv2_ransac", False),
     "cv2.USAC_MAGSAC": ("magsac", False),
@@ -95,7 +95,7 @@ def evaluate_pair(pair, *, size=None, methods=None, seed: int = 0, repeat: int =
     for label, (name, ordered) in methods.items():
         if ordered and quality is None:
             continue
-        kw = dict(options) if get_strategy(name).uses_hypotheses else {}
+        kw = dict(options) if get_strategy(strategy_of(name)).uses_hypotheses else {}
         if ordered:
             kw["quality"] = quality
         times, res = [], None

@@ -31,7 +31,7 @@ from .registry import experiment, finite_or_none
 
 #: label -> (estimator, uses match quality), the format of
 #: :data:`~clap_unified.imaging.evaluation.EVALUATED` with shorter labels.
-METHODS = {"CLAP": ("clap", False), "RANSAC": ("ransac", False),
+METHODS = {"CLAP": ("clap_paper", False), "RANSAC": ("ransac", False),
            "MAGSAC++": ("magsac", False)}
 COLORS = {"CLAP": "C3", "RANSAC": "C0", "MAGSAC++": "C2", "CLAP ordered": "C1"}
 #: Inlier threshold, pixels of symmetric reprojection error.
@@ -92,13 +92,15 @@ def _lie_over_sets(sets, seed: int, desc: str, size=None, seeds: int = 1):
 
 
 def _lie_over_pairs(pairs, seed: int, desc: str, size=None, seeds: int = 1, images=True):
+    from ..imaging.estimate import strategy_of
     from ..imaging.evaluation import evaluate_pair
     from ..imaging.features import read_image
     from ..registry import get_strategy
 
     rows, stability, thumbs = [], [], {}
     # the strategies whose estimate depends on the seed: those drawing hypotheses
-    randomized = {k: v for k, v in METHODS.items() if get_strategy(v[0]).uses_hypotheses}
+    randomized = {k: v for k, v in METHODS.items()
+                  if get_strategy(strategy_of(v[0])).uses_hypotheses}
     for k, pm in enumerate(progress(pairs, desc)):
         first = evaluate_pair(pm, size=size, methods=METHODS, seed=seed + k)
         rows += _scored_rows(pm.name, pm.scene, first)
@@ -267,7 +269,7 @@ def run_homography_evd(params: dict, seed: int) -> dict:
     from ..imaging.datasets import evd_names, load_evd
     from ..imaging.evaluation import evaluate_pair
 
-    methods = dict(METHODS, **{"CLAP ordered": ("clap", True)})
+    methods = dict(METHODS, **{"CLAP ordered": ("clap_paper", True)})
     rows = []
     for k, name in enumerate(progress(evd_names(), "homography_evd")):
         pair = load_evd(name, images=False)

@@ -382,6 +382,14 @@ class HomographySpace(HypothesisSpace):
         of order one, fast all-pairs distances), while models, residuals and
         refits stay in pixels. ``polish`` as in the constructor.
 
+        ``metric="transfer"`` compares hypotheses instead by where they send
+        five anchors inside the matched region of the source image, in
+        destination pixels
+        (:class:`~clap_unified.geometry.homography_transfer.HomographyTransfer`
+        with :func:`~clap_unified.geometry.homography_transfer.region_anchors`):
+        a distance with a unit, and an embedding on which CLAP's density
+        queries run on a k-d tree.
+
         Examples
         --------
         >>> rng = np.random.default_rng(0)
@@ -389,12 +397,19 @@ class HomographySpace(HypothesisSpace):
         >>> space = HomographySpace.for_data(np.c_[src, src + 5.0])
         >>> space.manifold
         HomographyInFrame(metric='lie_linear', normalization='det', screen=1)
+        >>> HomographySpace.for_data(np.c_[src, src + 5.0], metric="transfer").manifold
+        HomographyTransfer(anchors=5)
         """
         from ..geometry.homography_frame import HomographyInFrame
 
         data = check_points(matches, "matches", dim=4, min_count=cls.min_samples)
-        T1, T2 = normalise_points(data.reshape(-1, 2, 2).transpose(1, 0, 2))[1]
         space = cls(residual=residual, normalization="h33", polish=polish)
+        if metric == "transfer":
+            from ..geometry.homography_transfer import HomographyTransfer, region_anchors
+
+            space._manifold = HomographyTransfer(region_anchors(data[:, :2]))
+            return space
+        T1, T2 = normalise_points(data.reshape(-1, 2, 2).transpose(1, 0, 2))[1]
         space._manifold = HomographyInFrame(T1, T2, metric=metric, normalization=normalization,
                                             screen=screen)
         return space
