@@ -1,0 +1,132 @@
+"""The library's default CLAP for homographies: anchor-transfer distance, k-d tree density,
+seeds by k-th neighbour distance, clusters chosen by consensus (issue 14)."""
+
+import numpy as np
+import pytest
+
+from clap_unified import fit
+from clap_unified.clap.density import EmbeddedNeighbours, auto_bandwidth, knn_distance
+from clap_unified.geometry.homography_transfer import HomographyTransfer, region_anchors
+from clap_unified.imaging import PROTOCOLS, estimate_homography
+from clap_unified.imaging.estimate import method_names, strategy_of
+from clap_unified.imaging.metrics import symmetric_reprojection_error
+from clap_unified.spaces import HomographySpace
+
+
+def _random_h(rng, n):
+    H = np.eye(3) + rng.normal(0, [[0.05, 0.05, 20], [0.05, 0.05, 20], [1e-5, 1e-5, 0]],
+                               (n, 3, 3))
+    return H / H[:, 2:, 2:]
+
+
+def test_transfer_distance_is_the_rms_anchor_distance():
+    rng = np.random.default_rng(0)
+    A = rng.uniform(0, 640, (5, 2))
+    g = HomographyTransfer(A)
+    H = _random_h(rng, 6)
+    for i in range(6):
+        for j in range(6):
+            pa = np.c_[A, np.ones(5)] @ H[i].T
+            pb = np.c_[A, np.ones(5)] @ H[j].T
+            d = np.sqrt(np.mean(np.sum((pa[:, :2] / pa[:, 2:] - pb[:, :2] / pb[:, 2:]) ** 2, 1)))
+            assert g.distance(H[i], H[j]) == pytest.approx(d, rel=1e-9, abs=1e-9)
+    D = g.pairwise_distance(H)
+    assert np.allclose(D, D.T) and np.all(np.diag(D) == 0)
+    assert np.allclose(D, g.distance(H[:, None], H[None]), atol=1e-9)
+
+
+def test_a_homography_sending_an_anchor_behind_the_camera_has_no_embedding():
+    g = HomographyTransfer(np.array([[0.0, 0.0], [100.0, 0.0]]))
+    flip = np.array([[1.0, 0, 0], [0, 1, 0], [-0.02, 0, 1]])  # w = 1 - 0.02 x < 0 at x = 100
+    assert np.all(np.isnan(g.chordal_embedding(flip)))
+    assert g.distance(np.eye(3), flip) == np.inf
+    D = g.pairwise_distance(np.stack([np.eye(3), flip]))
+    assert D[0, 0] == 0 and np.isinf(D[0, 1]) and np.isinf(D[1, 1])
+
+
+def test_region_anchors_reject_bad_margins():
+    with pytest.raises(ValueError, match="margin"):
+        region_anchors(np.zeros((3, 2)), margin=0.5)
+    with pytest.raises(ValueError, match="points"):
+        region_anchors(np.zeros((0, 2)))
+
+
+def test_tree_neighbours_agree_with_the_distance_matrix():
+    rng = np.random.default_rng(1)
+    g = HomographyTransfer(rng.uniform(0, 640, (5, 2)))
+    H = _random_h(rng, 300)
+    D = g.pairwise_distance(H)
+    nb = EmbeddedNeighbours(g, H)
+    r = float(np.quantile(D, 0.05))
+    assert np.array_equal(nb.counts(r), np.count_nonzero(D <= r, axis=1))
+    assert np.allclose(nb.knn(3), knn_distance(g, H, 3, distances=D))
+    assert nb.auto_bandwidth(quantile=0.1) == pytest.approx(
+        auto_bandwidth(g, H, quantile=0.1, distances=D))
+    assert np.array_equal(nb.ball(0, r), np.flatnonzero(D[0] <= r))
+
+
+def _decoy_pair(seed, inliers=120, decoys=80, outliers=200):
+    rng = np.random.default_rng(seed)
+    H1 = np.array([[0.95, 0.1, 30.0], [-0.08, 1.02, -12.0], [2e-5, 1e-5, 1.0]])
+    H2 = np.array([[1.1, 0.0, -60.0], [0.0, 1.1, 40.0], [0.0, 0.0, 1.0]])
+
+    def mapped(H, n, lo, hi):
+        s = rng.uniform(lo, hi, (n, 2))
+        p = np.c_[s, np.ones(n)] @ H.T
+        return np.c_[s, p[:, :2] / p[:, 2:] + rng.normal(0, 0.5, (n, 2))]
+
+    m = np.r_[mapped(H1, inliers, 0, 640), mapped(H2, decoys, 200, 400),
+              np.c_[rng.uniform(0, 640, (outliers, 2)), rng.uniform(0, 640, (outliers, 2))]]
+    return m[rng.permutation(len(m))], H1, H2
+
+
+def test_the_default_finds_the_motion_and_reports_the_decoy_as_a_second_cluster():
+    m, H1, H2 = _decoy_pair(0)
+    res = estimate_homography(m, "clap", rng=0)
+    assert res.success and res.method == "clap"
+    grid = np.array([[x, y, 0, 0] for x in (50, 300, 600) for y in (50, 300, 450)], float)
+    p = np.c_[grid[:, :2], np.ones(9)] @ H1.T
+    grid[:, 2:] = p[:, :2] / p[:, 2:]
+    assert np.median(symmetric_reprojection_error(res.model, grid)) < 1.0
+    # the decoy's motion is among the clusters, behind the answer
+    costs = res.diagnostics["consensus_costs"]
+    assert np.all(np.diff(costs) >= 0)
+    g = res.space.manifold
+    d2 = [float(g.distance(c.model, H2)) for c in res.clusters[1:]]
+    assert min(d2) < 3.0
+
+
+def test_consensus_selection_is_deterministic_and_seeded():
+    m, _, _ = _decoy_pair(1)
+    a, b = estimate_homography(m, "clap", rng=3), estimate_homography(m, "clap", rng=3)
+    assert np.array_equal(a.model, b.model) and np.array_equal(a.inliers, b.inliers)
+
+
+def test_paper_protocol_keeps_its_own_name():
+    assert strategy_of("clap_paper") == "clap" and "clap_paper" in method_names()
+    m, _, _ = _decoy_pair(2)
+    res = estimate_homography(m, "clap_paper", rng=0)
+    assert res.method == "clap_paper" and res.space.manifold.metric == "lie_linear"
+    assert PROTOCOLS["clap"]["select"] == "consensus"
+
+
+@pytest.mark.parametrize("bad", [{"select": "best"}, {"density": "kde"}, {"k": 0},
+                                 {"n_refine": -1}])
+def test_bad_options_are_named(bad):
+    m, _, _ = _decoy_pair(3)
+    key = next(iter(bad))
+    with pytest.raises(ValueError, match=key):
+        fit(HomographySpace.for_data(m, metric="transfer"), m, "clap", rng=0, **bad)
+
+
+def test_knn_density_and_consensus_work_in_any_space():
+    # Euclidean points: the densest pair of hypotheses seeds; consensus decides
+    rng = np.random.default_rng(4)
+    from clap_unified.spaces import LineSpace
+
+    x = rng.uniform(-5, 5, 200)
+    pts = np.c_[x, 0.3 * x + 1 + rng.normal(0, 0.01, 200)]
+    pts[:150] = rng.uniform(-5, 5, (150, 2))
+    res = fit(LineSpace.for_data(pts), pts, "clap", threshold=0.05, rng=0, density="knn",
+              select="consensus", max_clusters=10, min_support=1)
+    assert res.success and res.n_inliers >= 45
