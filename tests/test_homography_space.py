@@ -70,3 +70,18 @@ def test_hypotheses_are_never_singular():
     H = hs.models
     ratio = np.abs(np.linalg.det(H)) / np.prod(np.linalg.norm(H, axis=-1), axis=-1)
     assert len(hs) == 400 and ratio.min() > 1e-10
+
+
+def test_polish_scale_widens_the_weights_not_the_inliers():
+    rng = np.random.default_rng(3)
+    src = rng.uniform(0, 640, (200, 2))
+    dst = src + [5.0, -2.0] + rng.normal(0, 1.5, (200, 2))
+    data = np.c_[src, dst]
+    H0 = np.array([[1.0, 0, 5.5], [0, 1, -1.5], [0, 0, 1]])
+    model, inliers = HomographySpace(polish=2.0).refine(H0, data, 3.0)
+    from clap_unified.spaces.homography import symmetric_transfer_error
+    assert np.array_equal(inliers, symmetric_transfer_error(model, data) < 3.0)
+    assert HomographySpace(polish=2.0).polish == 2.0 and HomographySpace(polish=True).polish is True
+    for bad in (0, -1.0, np.nan, "yes"):
+        with pytest.raises(ValueError, match="polish"):
+            HomographySpace(polish=bad)

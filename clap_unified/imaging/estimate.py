@@ -1,18 +1,30 @@
-"""Homography from point matches: :func:`~clap_unified.fit` with the paper's protocols.
+"""Homography from point matches: :func:`~clap_unified.fit` with named protocols.
 
 :func:`estimate_homography` is a thin application of :func:`~clap_unified.fit`:
 it builds the :class:`~clap_unified.spaces.HomographySpace` a method's
-protocol asks for and fits in it. The protocols, one dict per strategy name
+protocol asks for and fits in it. The protocols, one dict per method name
 in :data:`PROTOCOLS` (read generically; a registered strategy without one
 gets :data:`DEFAULT_PROTOCOL`):
 
-* ``"clap"`` (the paper's, Sec. "Image Stitching Results"): 400 candidate
-  homographies from random 4-match samples (closed-form 4-point solutions),
-  clustered in the normalised frame of the matches
+* ``"clap"`` (the library's default CLAP): 1000 candidate homographies from
+  random 4-match samples, compared by where they send five anchors of the
+  matched region (:class:`~clap_unified.geometry.homography_transfer.HomographyTransfer`,
+  a distance in pixels, neighbour queries on a k-d tree); seeds ranked by
+  the distance to their second-nearest candidate, clusters within 3 px of a
+  seed, 9 px suppressed around each, up to 16 clusters; the clusters'
+  centres are scored against the matches by truncated consensus (MSAC), the
+  best three refined, the best after refinement is the answer
+  (``select="consensus"``); refinement is the DLT refit and the reweighted
+  DLT with weights reaching zero at twice the threshold (``polish=2.0``).
+  Every other cluster is reported too: a second, coherent motion in the
+  matches shows up as the second cluster;
+* ``"clap_paper"`` (the paper's, Sec. "Image Stitching Results"): 400
+  candidates clustered in the normalised frame of the matches
   (:meth:`HomographySpace.for_data`), bandwidth the 2 % quantile of the
-  candidates' 4-NN distances, robust centre by 5 rounds of trimming 20 %
-  (medoid), then re-estimation on the data inliers of the centre: DLT refit
-  and a polish by reweighted DLT (``polish=True``, :mod:`~clap_unified.spaces.homography_polish`);
+  candidates' 4-NN distances, the cluster with the most candidates, robust
+  centre by 5 rounds of trimming 20 % (medoid), then re-estimation on the
+  data inliers of the centre: DLT refit and a polish by reweighted DLT
+  (``polish=True``, :mod:`~clap_unified.spaces.homography_polish`);
 * ``"ransac"``: the paper's baseline, DLT on 4-samples, a fixed budget of
   1000 trials, DLT refit on the inliers, no polish;
 * ``"randomized_hough"``: the same candidates as CLAP voted into cells of
@@ -47,7 +59,7 @@ __all__ = ["DEFAULT_PROTOCOL", "MIN_MATCHES", "PROTOCOLS", "clap_homography",
 #: DLT); every other key is an argument of :func:`~clap_unified.fit` or an
 #: option of the strategy.
 PROTOCOLS = {
-    "clap": {"frame": True, "metric": "transfer", "polish": True, "n_hypotheses": 1000,
+    "clap": {"frame": True, "metric": "transfer", "polish": 2.0, "n_hypotheses": 1000,
              "threshold": 3.0, "density": "knn", "k": 2, "bandwidth": 3.0, "suppress": 3.0,
              "rounds": 0, "max_clusters": 16, "min_support": 1, "select": "consensus",
              "n_refine": 3},

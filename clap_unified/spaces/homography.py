@@ -347,7 +347,11 @@ class HomographySpace(HypothesisSpace):
         reweighted DLT on the symmetric transfer error
         (:func:`~clap_unified.spaces.homography_polish.polish_homography`): CLAP's
         protocol in the paper. Without it (the paper's RANSAC baseline) the
-        refit is the whole refinement.
+        refit is the whole refinement. A number ``s`` polishes with weights
+        that reach zero at ``s`` times the inlier threshold (``True`` is 1):
+        matches just beyond the threshold still pull a little, as in
+        MAGSAC++'s marginalisation over noise scales; the inliers are still
+        those within the threshold.
 
     Notes
     -----
@@ -365,9 +369,15 @@ class HomographySpace(HypothesisSpace):
                  polish: bool = False):
         self.residual = check_choice(residual, "residual", {"transfer", "symmetric"})
         self.normalization = check_choice(normalization, "normalization", {"h33", "det"})
-        if not isinstance(polish, (bool, np.bool_)):
-            raise ValueError(f"polish: expected True or False, got {polish!r}")
-        self.polish = bool(polish)
+        if isinstance(polish, (bool, np.bool_)):
+            polish = bool(polish)
+        elif not (isinstance(polish, (int, float, np.floating, np.integer))
+                  and np.isfinite(polish) and polish > 0):
+            raise ValueError(f"polish: expected True, False or a positive number, "
+                             f"got {polish!r}")
+        else:
+            polish = float(polish)
+        self.polish = polish
         self._manifold = None
 
     @classmethod
@@ -608,6 +618,8 @@ class HomographySpace(HypothesisSpace):
     def refine(self, model, data, threshold):
         """DLT refit on the inliers, then, with ``polish``, the reweighted DLT.
 
+        With ``polish=s`` (a number) the reweighted DLT uses ``s * threshold``.
+
         The one refinement route of the space (:func:`~clap_unified.fit`
         calls it). With ``polish`` the inliers returned are the matches whose
         symmetric transfer error is below ``threshold`` (the polish's rule).
@@ -616,5 +628,8 @@ class HomographySpace(HypothesisSpace):
         if self.polish:
             from .homography_polish import polish_checked
 
-            model, inliers = polish_checked(model, data, threshold)
+            scale = 1.0 if self.polish is True else self.polish
+            model, inliers = polish_checked(model, data, scale * threshold)
+            if scale != 1.0:
+                inliers = symmetric_transfer_error(model, data) < threshold
         return model, inliers
