@@ -84,6 +84,10 @@ class Strategy:
         gives no threshold (default: ``space.default_threshold(data)``).
     summary : str
         One line for ``clap-unified strategies`` and the docs.
+    baseline : bool
+        Another library's estimator wrapped as a strategy (OpenCV, Open3D,
+        PoseLib, COLMAP) so comparisons share the data checks, the threshold
+        and the result type; False for the library's own strategies.
     """
 
     name: str
@@ -95,6 +99,7 @@ class Strategy:
     finish: Callable | None = None
     default_threshold: Callable | None = None
     summary: str = ""
+    baseline: bool = False
 
     def applies(self, space) -> bool:
         """Whether this strategy works in ``space``."""

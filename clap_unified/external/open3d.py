@@ -177,5 +177,5 @@ def _finish(space, data, model, inliers, threshold, consensus):
 
 register_strategy(Strategy(
     "open3d", run_open3d, uses_hypotheses=False, applies_to=("pose3d", "rigid3d"),
-    finish=_finish,
+    finish=_finish, baseline=True,
     summary="Open3D's registration_ransac_based_on_correspondence on the putative pairs"))

@@ -1,11 +1,13 @@
 """OpenCV's robust homography estimators as strategies of :func:`~clap_unified.fit`.
 
-``cv2.findHomography`` on the matches, registered under three names:
+``cv2.findHomography`` on the matches, registered under four names:
 
 * ``"cv2_ransac"``: ``cv2.RANSAC``, the classical baseline; OpenCV stops
   adaptively once ``confidence`` is reached, at most ``n_hypotheses``
   iterations;
 * ``"magsac"``: ``cv2.USAC_MAGSAC`` (MAGSAC++ in OpenCV's USAC framework);
+* ``"usac_accurate"``: ``cv2.USAC_ACCURATE`` (USAC with graph-cut RANSAC's
+  local optimisation and SPRT);
 * ``"usac_ransac_fixed"``: plain RANSAC in the USAC framework (uniform
   sampling, inlier-count score, no local optimisation, OpenCV's
   least-squares final polisher requested) with confidence 1, so it does not
@@ -13,7 +15,8 @@
   budget. On the test pairs its estimate is visibly less refined than
   ``cv2.RANSAC``'s.
 
-They read the data only (``uses_hypotheses=False``). ``threshold`` is
+They read the data only (``uses_hypotheses=False``) and are baselines
+(``Strategy.baseline``), not the library's own strategies. ``threshold`` is
 OpenCV's ``ransacReprojThreshold`` and ``n_hypotheses`` its iteration cap
 (``maxIters``). OpenCV refines its own estimate: compare it as OpenCV returns
 it with ``fit(..., refine=False)`` (the protocol of
@@ -74,6 +77,8 @@ OPENCV = {
                    "OpenCV's cv2.findHomography with cv2.RANSAC (adaptive stopping)"),
     "magsac": (_classical("USAC_MAGSAC"),
                "OpenCV's MAGSAC++ (cv2.USAC_MAGSAC)"),
+    "usac_accurate": (_classical("USAC_ACCURATE"),
+                      "OpenCV's USAC_ACCURATE (graph-cut local optimisation, SPRT)"),
     "usac_ransac_fixed": (_usac_fixed,
                           "plain RANSAC in OpenCV's USAC with a fixed iteration budget"),
 }
@@ -129,7 +134,7 @@ def _strategy(name):
     run.__name__ = run.__qualname__ = f"run_{name}"
     run.__doc__ = f":func:`run_opencv` with ``name={name!r}``."
     return Strategy(name, run, uses_hypotheses=False, applies_to=("homography",),
-                    summary=OPENCV[name][1])
+                    summary=OPENCV[name][1], baseline=True)
 
 
 for _name in OPENCV:

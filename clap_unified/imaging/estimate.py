@@ -29,9 +29,14 @@ gets :data:`DEFAULT_PROTOCOL`):
   1000 trials, DLT refit on the inliers, no polish;
 * ``"randomized_hough"``: the same candidates as CLAP voted into cells of
   edge 0.05 of the normalised-frame log chart;
-* ``"cv2_ransac"``, ``"magsac"``, ``"usac_ransac_fixed"``: OpenCV's
-  estimators (:mod:`clap_unified.external.opencv`), reported as OpenCV
-  returns them (``refine=False``), at most 1000 iterations.
+* ``"cv2_ransac"``, ``"magsac"``, ``"usac_accurate"``,
+  ``"usac_ransac_fixed"``: OpenCV's estimators
+  (:mod:`clap_unified.external.opencv`), reported as OpenCV returns them
+  (``refine=False``), at most 1000 iterations;
+* ``"poselib"``, ``"colmap"``: PoseLib's and COLMAP's LO-RANSAC
+  (:mod:`clap_unified.external.poselib`, :mod:`clap_unified.external.colmap`),
+  reported as the peer returns them (``refine=False``), at most 1000
+  iterations, seeded from ``rng``.
 
 Every protocol uses the inlier threshold of 3 px. ``quality`` (lower is
 better, e.g. the SIFT ratio of each match) makes the samples progressive, as
@@ -71,8 +76,11 @@ PROTOCOLS = {
                          "n_hypotheses": 400, "threshold": 3.0, "cell_size": 0.05},
     "cv2_ransac": {"frame": False, "refine": False, "n_hypotheses": 1000, "threshold": 3.0},
     "magsac": {"frame": False, "refine": False, "n_hypotheses": 1000, "threshold": 3.0},
+    "usac_accurate": {"frame": False, "refine": False, "n_hypotheses": 1000, "threshold": 3.0},
     "usac_ransac_fixed": {"frame": False, "refine": False, "n_hypotheses": 1000,
                           "threshold": 3.0},
+    "poselib": {"frame": False, "refine": False, "n_hypotheses": 1000, "threshold": 3.0},
+    "colmap": {"frame": False, "refine": False, "n_hypotheses": 1000, "threshold": 3.0},
 }
 
 #: The protocol of a registered homography strategy without an entry in :data:`PROTOCOLS`.

@@ -1,0 +1,144 @@
+"""COLMAP's robust homography estimator as the strategy ``"colmap"`` of :func:`~clap_unified.fit`.
+
+``pycolmap.estimate_homography_matrix`` on the matches: COLMAP's LO-RANSAC
+(4-point DLT samples, local optimisation on the inliers). A baseline
+(``Strategy.baseline``), not one of the library's own strategies; it reads
+the data only (``uses_hypotheses=False``). The arguments mean what they mean
+for every strategy:
+
+* ``threshold``: the inlier threshold in pixels,
+  ``pycolmap.RANSACOptions.max_error`` (forward transfer error in image 2);
+* ``n_hypotheses``: the iteration cap, ``RANSACOptions.max_num_trials``;
+* ``confidence``: the stopping confidence, ``RANSACOptions.confidence``
+  (default 0.995 as for OpenCV's estimators; COLMAP's own is 0.9999);
+* ``min_iterations``: ``RANSACOptions.min_num_trials``, default 0 so that,
+  like OpenCV, it stops as soon as ``confidence`` is reached (COLMAP's own
+  default is 1000); capped at ``n_hypotheses``;
+* ``rng``: ``RANSACOptions.random_seed`` is the first integer in
+  ``[0, 2**31 - 1)`` drawn from ``as_generator(rng)``
+  (:func:`~clap_unified.external._peers.seed_of`), so an int ``rng`` gives the
+  same result every time (``None``: a fresh random seed). COLMAP runs on one
+  thread (``num_threads=1``).
+
+COLMAP refines its own estimate: compare it as COLMAP returns it with
+``fit(..., refine=False)`` (the protocol of
+:func:`~clap_unified.imaging.estimate_homography`). The result's inliers are,
+as for every strategy, the matches within ``threshold`` of the returned model
+(forward transfer error); COLMAP's own mask is in
+``diagnostics["colmap_mask"]``. Convention as everywhere here (and as
+COLMAP's, checked on a known ``H``): rows ``(x1, y1, x2, y2)``,
+``x2 ~ H x1``. Matches whose points in either image are all collinear or
+identical are a failure before the peer runs (PoseLib would return a
+homography that fits a line of points). pycolmap is imported only when the strategy runs.
+
+Examples
+--------
+>>> import numpy as np
+>>> from clap_unified import fit
+>>> from clap_unified.spaces import HomographySpace
+>>> rng = np.random.default_rng(0)
+>>> src = rng.uniform(0, 640, (100, 2))
+>>> res = fit(HomographySpace(), np.c_[src, src + [5.0, -3.0]], "colmap", rng=0,
+...           refine=False)
+>>> res.success, res.n_inliers, np.round(res.model[:2, 2], 3).tolist()
+(True, 100, [5.0, -3.0])
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .._validation import check_fraction, check_int
+from ..registry import Strategy, register_strategy
+from ..result import Consensus
+from ._peers import degenerate_reason, seed_of
+
+__all__ = ["run_colmap"]
+
+
+def _import_pycolmap():
+    try:
+        import pycolmap
+    except ImportError as exc:
+        raise ImportError("method 'colmap' needs the package pycolmap "
+                          "(pip install pycolmap)") from exc
+    return pycolmap
+
+
+def run_colmap(space, data, hypotheses, *, threshold: float, prior=None, radius=None,
+               rng=None, n_hypotheses: int = 1000, confidence: float = 0.995,
+               min_iterations: int = 0) -> Consensus:
+    """``pycolmap.estimate_homography_matrix`` on checked matches.
+
+    Parameters
+    ----------
+    space : HomographySpace
+    data : ndarray of shape (N, 4)
+        Rows ``(x1, y1, x2, y2)``.
+    hypotheses
+        Unused (COLMAP draws its own samples).
+    threshold : float
+        ``max_error`` in pixels.
+    prior, radius
+        Unused.
+    rng : None, int or numpy.random.Generator
+        Source of COLMAP's ``random_seed``
+        (:func:`~clap_unified.external._peers.seed_of`).
+    n_hypotheses : int
+        ``max_num_trials``, the iteration cap.
+    confidence : float
+        ``confidence``, strictly between 0 and 1.
+    min_iterations : int
+        ``min_num_trials`` (at most ``n_hypotheses``).
+
+    Returns
+    -------
+    Consensus
+        The model with ``H33 = 1`` and no clusters; score: the size of
+        COLMAP's inlier mask. ``None`` (COLMAP's failure) or a non-finite
+        answer, or degenerate matches, is a failure
+        with a reason.
+
+    Raises
+    ------
+    ImportError
+        pycolmap is not installed.
+
+    Examples
+    --------
+    >>> from clap_unified.spaces import HomographySpace
+    >>> src = np.random.default_rng(1).uniform(0, 640, (50, 2))
+    >>> c = run_colmap(HomographySpace(), np.c_[src, 2 * src], None, threshold=1.0, rng=0)
+    >>> np.round(c.model, 6).tolist(), c.diagnostics["colmap_inliers"]
+    ([[2.0, 0.0, 0.0], [0.0, 2.0, 0.0], [0.0, 0.0, 1.0]], 50)
+    """
+    pycolmap = _import_pycolmap()
+    confidence = check_fraction(confidence, "confidence", inclusive=(False, False))
+    min_iterations = check_int(min_iterations, "min_iterations", minimum=0)
+    seed = seed_of(rng)
+    why = degenerate_reason(data)
+    if why is not None:
+        return Consensus.failed(f"no homography: {why}", seed=seed)
+    src = np.ascontiguousarray(data[:, :2], dtype=np.float64)
+    dst = np.ascontiguousarray(data[:, 2:], dtype=np.float64)
+    opt = pycolmap.RANSACOptions(
+        max_error=float(threshold), max_num_trials=int(n_hypotheses),
+        min_num_trials=min(min_iterations, int(n_hypotheses)), confidence=confidence,
+        random_seed=seed, num_threads=1)
+    answer = pycolmap.estimate_homography_matrix(src, dst, opt)
+    if answer is None:
+        return Consensus.failed("COLMAP found no homography", seed=seed)
+    H = np.asarray(answer["H"], dtype=float)
+    mask = np.asarray(answer.get("inlier_mask", []), dtype=bool).reshape(-1)
+    if len(mask) != len(data):
+        mask = np.zeros(len(data), bool)
+    diagnostics = {"colmap_mask": mask, "colmap_inliers": int(mask.sum()), "seed": seed}
+    if not np.all(np.isfinite(H)) or abs(H[2, 2]) < 1e-12:
+        return Consensus.failed("COLMAP found no homography (non-finite model)",
+                                **diagnostics)
+    return Consensus(H / H[2, 2], score=float(mask.sum()), diagnostics=diagnostics)
+
+
+register_strategy(Strategy(
+    "colmap", run_colmap, uses_hypotheses=False, applies_to=("homography",), baseline=True,
+    summary="COLMAP's pycolmap.estimate_homography_matrix (LO-RANSAC)"))

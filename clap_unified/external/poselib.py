@@ -1,0 +1,143 @@
+"""PoseLib's robust homography estimator as the strategy ``"poselib"`` of :func:`~clap_unified.fit`.
+
+``poselib.estimate_homography`` on the matches: LO-RANSAC on 4-point samples
+with PoseLib's non-linear refinement of the best model. A baseline
+(``Strategy.baseline``), not one of the library's own strategies; it reads
+the data only (``uses_hypotheses=False``). The arguments mean what they mean
+for every strategy:
+
+* ``threshold``: the inlier threshold in pixels, PoseLib's
+  ``ransac_opt["max_reproj_error"]`` (forward transfer error in image 2);
+* ``n_hypotheses``: the iteration cap, ``ransac_opt["max_iterations"]``;
+* ``confidence``: the stopping confidence, ``ransac_opt["success_prob"]``
+  (default 0.995 as for OpenCV's estimators; PoseLib's own is 0.9999);
+* ``min_iterations``: ``ransac_opt["min_iterations"]``, default 0 so that,
+  like OpenCV, it stops as soon as ``confidence`` is reached (PoseLib's own
+  default is 1000); capped at ``n_hypotheses``;
+* ``rng``: PoseLib's ``ransac_opt["seed"]`` is the first integer in
+  ``[0, 2**31 - 1)`` drawn from ``as_generator(rng)``, so an int ``rng``
+  gives the same result every time (``None``: a fresh random seed).
+
+PoseLib refines its own estimate: compare it as PoseLib returns it with
+``fit(..., refine=False)`` (the protocol of
+:func:`~clap_unified.imaging.estimate_homography`). The result's inliers are,
+as for every strategy, the matches within ``threshold`` of the returned model
+(forward transfer error); PoseLib's own mask is in
+``diagnostics["poselib_mask"]``. Convention as everywhere here (and as
+PoseLib's, checked on a known ``H``): rows ``(x1, y1, x2, y2)``,
+``x2 ~ H x1``. Matches whose points in either image are all collinear or
+identical are a failure before the peer runs (PoseLib would return a
+homography that fits a line of points). PoseLib is imported only when the strategy runs.
+
+Examples
+--------
+>>> import numpy as np
+>>> from clap_unified import fit
+>>> from clap_unified.spaces import HomographySpace
+>>> rng = np.random.default_rng(0)
+>>> src = rng.uniform(0, 640, (100, 2))
+>>> res = fit(HomographySpace(), np.c_[src, src + [5.0, -3.0]], "poselib", rng=0,
+...           refine=False)
+>>> res.success, res.n_inliers, np.round(res.model[:2, 2], 3).tolist()
+(True, 100, [5.0, -3.0])
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .._validation import check_fraction, check_int
+from ..registry import Strategy, register_strategy
+from ..result import Consensus
+from ._peers import degenerate_reason, seed_of
+
+__all__ = ["run_poselib"]
+
+
+def _import_poselib():
+    try:
+        import poselib
+    except ImportError as exc:
+        raise ImportError("method 'poselib' needs the package poselib "
+                          "(pip install poselib)") from exc
+    return poselib
+
+
+def run_poselib(space, data, hypotheses, *, threshold: float, prior=None, radius=None,
+                rng=None, n_hypotheses: int = 1000, confidence: float = 0.995,
+                min_iterations: int = 0) -> Consensus:
+    """``poselib.estimate_homography`` on checked matches.
+
+    Parameters
+    ----------
+    space : HomographySpace
+    data : ndarray of shape (N, 4)
+        Rows ``(x1, y1, x2, y2)``.
+    hypotheses
+        Unused (PoseLib draws its own samples).
+    threshold : float
+        ``max_reproj_error`` in pixels.
+    prior, radius
+        Unused.
+    rng : None, int or numpy.random.Generator
+        Source of PoseLib's ``seed`` (:func:`~clap_unified.external._peers.seed_of`).
+    n_hypotheses : int
+        ``max_iterations``, the iteration cap.
+    confidence : float
+        ``success_prob``, strictly between 0 and 1.
+    min_iterations : int
+        ``min_iterations`` (at most ``n_hypotheses``).
+
+    Returns
+    -------
+    Consensus
+        The model with ``H33 = 1`` and no clusters; score: the size of
+        PoseLib's inlier mask. A non-finite answer (PoseLib's failure) or an
+        empty mask, or degenerate matches, is a
+        failure with a reason.
+
+    Raises
+    ------
+    ImportError
+        PoseLib is not installed.
+
+    Examples
+    --------
+    >>> from clap_unified.spaces import HomographySpace
+    >>> src = np.random.default_rng(1).uniform(0, 640, (50, 2))
+    >>> c = run_poselib(HomographySpace(), np.c_[src, 2 * src], None, threshold=1.0, rng=0)
+    >>> np.round(c.model, 6).tolist(), c.diagnostics["poselib_inliers"]
+    ([[2.0, 0.0, 0.0], [0.0, 2.0, 0.0], [0.0, 0.0, 1.0]], 50)
+    """
+    poselib = _import_poselib()
+    confidence = check_fraction(confidence, "confidence", inclusive=(False, False))
+    min_iterations = check_int(min_iterations, "min_iterations", minimum=0)
+    seed = seed_of(rng)
+    why = degenerate_reason(data)
+    if why is not None:
+        return Consensus.failed(f"no homography: {why}", seed=seed)
+    src = np.ascontiguousarray(data[:, :2], dtype=np.float64)
+    dst = np.ascontiguousarray(data[:, 2:], dtype=np.float64)
+    opt = {"max_reproj_error": float(threshold), "max_iterations": int(n_hypotheses),
+           "min_iterations": min(min_iterations, int(n_hypotheses)),
+           "success_prob": confidence, "seed": seed}
+    H, info = poselib.estimate_homography(src, dst, opt)
+    H = np.asarray(H, dtype=float)
+    mask = np.asarray(info.get("inliers", []), dtype=bool).reshape(-1)
+    if len(mask) != len(data):
+        mask = np.zeros(len(data), bool)
+    diagnostics = {"poselib_mask": mask, "poselib_inliers": int(mask.sum()),
+                   "poselib_iterations": int(info.get("iterations", 0)),
+                   "poselib_refinements": int(info.get("refinements", 0)), "seed": seed}
+    if not np.all(np.isfinite(H)) or abs(H[2, 2]) < 1e-12:
+        return Consensus.failed("PoseLib found no homography (non-finite model)",
+                                **diagnostics)
+    if not mask.any():
+        return Consensus.failed("PoseLib found no homography (no inliers)",
+                                **diagnostics)
+    return Consensus(H / H[2, 2], score=float(mask.sum()), diagnostics=diagnostics)
+
+
+register_strategy(Strategy(
+    "poselib", run_poselib, uses_hypotheses=False, applies_to=("homography",), baseline=True,
+    summary="PoseLib's poselib.estimate_homography (LO-RANSAC, non-linear refinement)"))
