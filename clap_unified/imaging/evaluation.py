@@ -6,6 +6,11 @@ truth, mean corner error, inlier count, ratio of ground-truth inliers kept,
 the median symmetric reprojection error on the ground-truth inliers and on
 the validation points. Estimators see a pair's ``input`` only; its ``truth``
 scores them.
+
+The peers (:data:`PEERS`: OpenCV, PoseLib, COLMAP) are compared with the
+library's CLAP by :func:`compare_peers` (one row per pair and method, every
+estimate scored by the one rule of :func:`estimate_error`) and summarised by
+:func:`peer_table`; ``bench/bench_peers.py`` is their front end.
 """
 
 from __future__ import annotations
@@ -21,7 +26,8 @@ from .datasets.homography_benchmarks import HomographyInput, HomographyTruth
 from .estimate import estimate_homography, strategy_of
 from .metrics import corner_error, lie_error, symmetric_reprojection_error
 
-__all__ = ["EVALUATED", "PairMatches", "evaluate_pair", "evaluate_trials", "shuffled_pair",
+__all__ = ["EVALUATED", "PEERS", "PEER_METHODS", "PairMatches", "compare_peers",
+           "estimate_error", "evaluate_pair", "evaluate_trials", "peer_table", "shuffled_pair",
            "summarise", "vpg_pair_matches"]
 
 #: Methods compared by default (the paper's): label -> (method name, uses match quality).
@@ -33,6 +39,193 @@ EVALUATED = {
     "cv2.USAC_MAGSAC": ("magsac", False),
     "USAC RANSAC 1000": ("usac_ransac_fixed", False),
 }
+
+#: Other libraries' estimators (baselines): label -> (method name, uses match quality).
+PEERS = {
+    "cv2.RANSAC": ("cv2_ransac", False),
+    "cv2.USAC_MAGSAC": ("magsac", False),
+    "cv2.USAC_ACCURATE": ("usac_accurate", False),
+    "PoseLib": ("poselib", False),
+    "COLMAP": ("colmap", False),
+}
+
+#: What :func:`compare_peers` runs by default: the library's CLAP (with its
+#: protocol, and with match quality where a pair has it) and every peer.
+PEER_METHODS = {"CLAP": ("clap", False), "CLAP quality": ("clap", True), **PEERS}
+
+
+def estimate_error(H, pair) -> float:
+    """The error of an estimate in pixels: one rule for every data set.
+
+    The median symmetric reprojection error of ``H`` on
+    ``pair.truth.validation`` when the pair has validation points (homogr,
+    the synthetic pairs), else on the matches labelled inliers,
+    ``pair.input.matches[pair.truth.inliers]`` (EVD).
+
+    Parameters
+    ----------
+    H : ndarray of shape (3, 3) or None
+        The estimate; None (a failed estimate) is an infinite error.
+    pair : HomographyPair or PairMatches
+
+    Returns
+    -------
+    float
+        ``inf`` for a failed or non-finite estimate, NaN when the pair has
+        neither validation points nor labelled inliers.
+
+    Examples
+    --------
+    >>> from clap_unified.imaging.datasets import synthetic_pair
+    >>> pair = synthetic_pair(0.3, noise=0.0, rng=0)
+    >>> estimate_error(pair.truth.H, pair) < 1e-6, estimate_error(None, pair)
+    (True, inf)
+    """
+    if H is None or not np.all(np.isfinite(H)):
+        return float("inf")
+    validation = np.asarray(pair.truth.validation, dtype=float).reshape(-1, 4)
+    if not len(validation):
+        validation = np.asarray(pair.input.matches)[np.asarray(pair.truth.inliers, bool)]
+    if not len(validation):
+        return float("nan")
+    return float(np.median(symmetric_reprojection_error(H, validation)))
+
+
+def compare_peers(pairs, methods=None, *, repeat: int = 5, seed: int = 0, dataset=None,
+                  progress=None) -> list[dict]:
+    """Every method on the same matches of every pair, timed and scored alike.
+
+    Methods are interleaved (for each repeat, one run of each method in
+    turn) so that a slow phase of the machine hits every method alike; the
+    time of a method is the median of its ``repeat`` runs, measured by
+    :func:`time.perf_counter` around :func:`estimate_homography` only. Every
+    method sees ``pair.input`` only (the quality variants also
+    ``input.quality``) and runs with ``rng=seed``.
+
+    Parameters
+    ----------
+    pairs : iterable of HomographyPair or PairMatches
+    methods : dict, optional
+        ``label -> (method name, uses_quality)``; default
+        :data:`PEER_METHODS`. A quality variant is skipped on pairs without
+        quality.
+    repeat : int
+        Runs per method and pair (at least 1).
+    seed : int
+        The ``rng`` of every estimate.
+    dataset : str, optional
+        The ``dataset`` of the rows (default: each pair's ``dataset``).
+    progress : callable, optional
+        Called with 1 after every run (e.g. a ``tqdm`` bar's ``update``).
+
+    Returns
+    -------
+    list of dict
+        One per (pair, method): ``dataset, pair, n, ratio, method, name,
+        peer`` (a baseline of another library), ``seconds`` (median),
+        ``error`` (:func:`estimate_error`), ``success``, ``inliers``,
+        ``model``.
+
+    Raises
+    ------
+    ValueError
+        ``repeat`` below 1.
+
+    Examples
+    --------
+    >>> from clap_unified.imaging.datasets import synthetic_pair
+    >>> rows = compare_peers([synthetic_pair(0.3, rng=0)], repeat=1,
+    ...                      methods={"CLAP": ("clap", False), "PoseLib": ("poselib", False)})
+    >>> [(r["method"], r["peer"], r["error"] < 5) for r in rows]
+    [('CLAP', False, True), ('PoseLib', True, True)]
+    """
+    if int(repeat) < 1:
+        raise ValueError(f"repeat: expected at least 1, got {repeat}")
+    methods = PEER_METHODS if methods is None else methods
+    rows = []
+    for pair in pairs:
+        m, quality = pair.input.matches, pair.input.quality
+        run = {label: (name, {"quality": quality} if ordered else {})
+               for label, (name, ordered) in methods.items()
+               if not (ordered and quality is None)}
+        times = {label: [] for label in run}
+        results = {}
+        for _ in range(int(repeat)):
+            for label, (name, kw) in run.items():
+                t0 = time.perf_counter()
+                res = estimate_homography(m, name, rng=seed, **kw)
+                times[label].append(time.perf_counter() - t0)
+                results[label] = res
+                if progress is not None:
+                    progress(1)
+        for label, (name, _) in run.items():
+            res = results[label]
+            H = res.model if res.success else None
+            rows.append({"dataset": dataset or getattr(pair, "dataset", ""),
+                         "pair": pair.name, "n": len(m),
+                         "ratio": float(np.mean(pair.truth.inliers)), "method": label,
+                         "name": name, "peer": get_strategy(strategy_of(name)).baseline,
+                         "seconds": float(np.median(times[label])),
+                         "error": estimate_error(H, pair), "success": bool(res.success),
+                         "inliers": res.n_inliers, "model": H})
+    return rows
+
+
+def peer_table(rows, *, within: float = 5.0, reference: str = "cv2.RANSAC") -> list[dict]:
+    """Per data set and method, the summary of :func:`compare_peers` rows.
+
+    Parameters
+    ----------
+    rows : list of dict
+        From :func:`compare_peers`.
+    within : float
+        Error (pixels, :func:`estimate_error`) below which an estimate counts
+        as right.
+    reference : str
+        The method whose median time the ``vs_reference`` ratio divides by.
+
+    Returns
+    -------
+    list of dict
+        In the order of first appearance: ``dataset, method, pairs,
+        within`` (pairs with error below ``within``), ``median_error``,
+        ``ms`` (median time over pairs, milliseconds), ``vs_reference``
+        (median time over the reference's, NaN without it), ``vs_best_peer``
+        (over the best peer's), ``best_peer`` (the peer, ``peer`` rows, with
+        the most pairs within ``within``, ties broken by the lower median
+        error).
+
+    Examples
+    --------
+    >>> rows = [{"dataset": "d", "pair": p, "method": m, "peer": m != "C", "seconds": t,
+    ...          "error": e} for p in "ab" for m, t, e in [("C", 2.0, 1.0), ("R", 1.0, 9.0),
+    ...                                                  ("P", 4.0, 2.0)]]
+    >>> [(r["method"], r["within"], r["vs_reference"], r["vs_best_peer"])
+    ...  for r in peer_table(rows, reference="R")]
+    [('C', 2, 2.0, 0.5), ('R', 0, 1.0, 0.25), ('P', 2, 4.0, 1.0)]
+    """
+    out = []
+    for dataset in dict.fromkeys(r["dataset"] for r in rows):
+        mine = [r for r in rows if r["dataset"] == dataset]
+        stats = {}
+        for method in dict.fromkeys(r["method"] for r in mine):
+            e = np.array([r["error"] for r in mine if r["method"] == method], float)
+            t = np.array([r["seconds"] for r in mine if r["method"] == method], float)
+            peer = any(r.get("peer", False) for r in mine if r["method"] == method)
+            stats[method] = {"dataset": dataset, "method": method, "pairs": len(e),
+                             "within": int(np.sum(e < within)),
+                             "median_error": float(np.median(e)),
+                             "ms": 1e3 * float(np.median(t)), "peer": peer}
+        peers = [s for s in stats.values() if s["peer"]]
+        best = (min(peers, key=lambda s: (-s["within"], s["median_error"]))["method"]
+                if peers else None)
+        ref = stats.get(reference)
+        for s in stats.values():
+            s["vs_reference"] = s["ms"] / ref["ms"] if ref else float("nan")
+            s["vs_best_peer"] = s["ms"] / stats[best]["ms"] if best else float("nan")
+            s["best_peer"] = best
+            out.append(s)
+    return out
 
 
 def evaluate_pair(pair, *, size=None, methods=None, seed: int = 0, repeat: int = 1,
@@ -141,8 +334,9 @@ def shuffled_pair(pair, seed: int):
     Returns
     -------
     same type as ``pair``
-        ``input.matches``, ``input.quality`` and ``truth.inliers`` permuted
-        alike; ``truth.H`` and ``truth.validation`` unchanged.
+        ``input.matches``, ``input.quality``, ``truth.inliers`` (and
+        ``truth.decoys`` of a synthetic pair) permuted alike; ``truth.H``
+        and ``truth.validation`` unchanged.
 
     Examples
     --------
@@ -157,7 +351,10 @@ def shuffled_pair(pair, seed: int):
     q = pair.input.quality
     inp = dataclasses.replace(pair.input, matches=pair.input.matches[order],
                               quality=None if q is None else q[order])
-    truth = dataclasses.replace(pair.truth, inliers=pair.truth.inliers[order])
+    per_match = {"inliers": pair.truth.inliers[order]}
+    if "decoys" in {f.name for f in dataclasses.fields(pair.truth)}:  # SyntheticTruth
+        per_match["decoys"] = pair.truth.decoys[order]
+    truth = dataclasses.replace(pair.truth, **per_match)
     return dataclasses.replace(pair, input=inp, truth=truth)
 
 

@@ -6,6 +6,8 @@ see and whose ``truth`` is evaluation data (:mod:`clap_unified.datatypes`).
 * :mod:`.sources`: mirror / cache / public source lookup with sha256 checks;
 * :mod:`.homography_benchmarks`: homogr and EVD pairs with ground truth;
 * :mod:`.vpg`: the VPG stitching dataset layout;
+* :mod:`.synthetic_pairs`: synthetic hard homography pairs (few inliers, a
+  coherent decoy motion, uniform outliers) with exact ground truth;
 * :mod:`.synthetic_vpg`: a VPG-layout set from scikit-image photographs and
   textures, pure-rotation cameras, exact ground truth;
 * :mod:`.stitching_sets`: eleven real panorama sets with parallax and no
@@ -29,11 +31,13 @@ from .stitching_sets import (
     load_stitching_set,
     stitching_set_names,
 )
+from .synthetic_pairs import SyntheticTruth, synthetic_pair, synthetic_pairs
 from .synthetic_vpg import SCENES, load_synthetic_vpg, make_synthetic_vpg
 from .vpg import VPGInput, VPGSet, VPGTruth, list_vpg_sets, load_vpg_set, vpg_root
 
 __all__ = ["SCENES", "HomographyInput", "HomographyPair", "HomographyTruth", "PanoramaInput",
-           "PanoramaSet", "PanoramaTruth", "VPGInput", "VPGSet", "VPGTruth", "evd_names",
-           "fetch", "homogr_names", "list_vpg_sets", "load_evd", "load_homogr",
+           "PanoramaSet", "PanoramaTruth", "SyntheticTruth", "VPGInput", "VPGSet", "VPGTruth",
+           "evd_names", "fetch", "homogr_names", "list_vpg_sets", "load_evd", "load_homogr",
            "load_manifest", "load_stitching_set", "load_synthetic_vpg", "load_vpg_set",
-           "make_synthetic_vpg", "stitching_set_names", "vpg_root"]
+           "make_synthetic_vpg", "stitching_set_names", "synthetic_pair", "synthetic_pairs",
+           "vpg_root"]
