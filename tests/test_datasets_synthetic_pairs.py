@@ -14,7 +14,7 @@ from clap_unified.imaging.datasets import (
     synthetic_pair,
     synthetic_pairs,
 )
-from clap_unified.imaging.datasets.synthetic_pairs import DECOY_RATIOS, INLIER_RATIOS
+from clap_unified.imaging.datasets.synthetic_pairs import DECOY_SHARES, INLIER_RATIOS
 from clap_unified.imaging.evaluation import compare_peers, estimate_error, shuffled_pair
 from clap_unified.imaging.metrics import symmetric_reprojection_error
 
@@ -31,7 +31,7 @@ def pairs():
 
 def test_the_fixed_set_is_deterministic_and_complete(pairs):
     again = synthetic_pairs()
-    assert len(pairs) == len(INLIER_RATIOS) * len(DECOY_RATIOS) == 12
+    assert len(pairs) == len(INLIER_RATIOS) * len(DECOY_SHARES) == 12
     for p, q in zip(pairs, again, strict=True):
         assert p.name == q.name and p.dataset == "synthetic"
         for a, b in [(p.input.matches, q.input.matches), (p.input.quality, q.input.quality),
@@ -40,9 +40,10 @@ def test_the_fixed_set_is_deterministic_and_complete(pairs):
             np.testing.assert_array_equal(a, b)
     assert not np.array_equal(synthetic_pairs(seed=1)[0].input.matches, pairs[0].input.matches)
     got = {(round(p.inlier_ratio, 2), round(float(p.truth.decoys.mean()), 2)) for p in pairs}
-    assert got == {(r, d) for r in INLIER_RATIOS for d in DECOY_RATIOS}
+    assert got == {(r, round(f * r, 2)) for r in INLIER_RATIOS for f in DECOY_SHARES}
+    assert all(p.truth.decoys.sum() < p.truth.inliers.sum() for p in pairs)
     assert [p.name for p in pairs][:2] == ["synthetic r=0.08 decoy=0 #0",
-                                           "synthetic r=0.08 decoy=0.1 #1"]
+                                           "synthetic r=0.08 decoy=0.04 #1"]
 
 
 def test_shapes_and_ratios():

@@ -39,13 +39,15 @@ import numpy as np
 from ..._validation import as_generator, check_fraction, check_int, check_positive
 from .homography_benchmarks import HomographyInput, HomographyPair, HomographyTruth
 
-__all__ = ["INLIER_RATIOS", "DECOY_RATIOS", "SyntheticTruth", "synthetic_pair",
+__all__ = ["DECOY_SHARES", "INLIER_RATIOS", "SyntheticTruth", "synthetic_pair",
            "synthetic_pairs"]
 
 #: Inlier ratios of the fixed hard set :func:`synthetic_pairs`.
 INLIER_RATIOS = (0.08, 0.12, 0.2, 0.3)
-#: Decoy ratios of the fixed hard set :func:`synthetic_pairs`.
-DECOY_RATIOS = (0.0, 0.1, 0.2)
+#: Decoys of the fixed hard set :func:`synthetic_pairs`, as a share of its inliers: the decoy
+#: motion is always the smaller one (with more decoys than inliers the "true" motion would be
+#: the minority, and no estimator could be asked to prefer it).
+DECOY_SHARES = (0.0, 0.5, 0.75)
 
 
 @dataclass(frozen=True)
@@ -246,7 +248,10 @@ def synthetic_pair(inlier_ratio: float, *, decoy_ratio: float = 0.0, n_matches: 
 
 def synthetic_pairs(seed: int = 0, *, n_matches: int = 500, noise: float = 1.0
                     ) -> list[HomographyPair]:
-    """The fixed hard set: every inlier ratio of :data:`INLIER_RATIOS` with every decoy ratio.
+    """The fixed hard set: every inlier ratio of :data:`INLIER_RATIOS` with every decoy share.
+
+    A pair with inlier ratio ``r`` and decoy share ``f`` (:data:`DECOY_SHARES`) has
+    ``f * r`` of its matches on the decoy motion.
 
     Parameters
     ----------
@@ -265,13 +270,14 @@ def synthetic_pairs(seed: int = 0, *, n_matches: int = 500, noise: float = 1.0
     --------
     >>> pairs = synthetic_pairs()
     >>> len(pairs), pairs[-1].name
-    (12, 'synthetic r=0.3 decoy=0.2 #11')
+    (12, 'synthetic r=0.3 decoy=0.225 #11')
     >>> bool(np.array_equal(pairs[3].input.matches, synthetic_pairs()[3].input.matches))
     True
     """
     seed = check_int(seed, "seed", minimum=0)
     out = []
-    for k, (r, d) in enumerate((r, d) for r in INLIER_RATIOS for d in DECOY_RATIOS):
+    for k, (r, f) in enumerate((r, f) for r in INLIER_RATIOS for f in DECOY_SHARES):
+        d = round(f * r, 4)
         out.append(synthetic_pair(r, decoy_ratio=d, n_matches=n_matches, noise=noise,
                                   rng=np.random.default_rng((seed, k)),
                                   name=f"synthetic r={r:g} decoy={d:g} #{k}"))
