@@ -35,8 +35,9 @@ gets :data:`DEFAULT_PROTOCOL`):
   (``refine=False``), at most 1000 iterations;
 * ``"poselib"``, ``"colmap"``: PoseLib's and COLMAP's LO-RANSAC
   (:mod:`clap_unified.external.poselib`, :mod:`clap_unified.external.colmap`),
-  reported as the peer returns them (``refine=False``), at most 1000
-  iterations, seeded from ``rng``.
+  reported as the peer returns them (``refine=False``), with the peers' own
+  defaults (at least 1000 and at most 100000 iterations, confidence 0.9999:
+  what a user calling them gets), seeded from ``rng``.
 
 Every protocol uses the inlier threshold of 3 px. ``quality`` (lower is
 better, e.g. the SIFT ratio of each match) makes the samples progressive, as
@@ -79,8 +80,10 @@ PROTOCOLS = {
     "usac_accurate": {"frame": False, "refine": False, "n_hypotheses": 1000, "threshold": 3.0},
     "usac_ransac_fixed": {"frame": False, "refine": False, "n_hypotheses": 1000,
                           "threshold": 3.0},
-    "poselib": {"frame": False, "refine": False, "n_hypotheses": 1000, "threshold": 3.0},
-    "colmap": {"frame": False, "refine": False, "n_hypotheses": 1000, "threshold": 3.0},
+    "poselib": {"frame": False, "refine": False, "n_hypotheses": 100_000, "threshold": 3.0,
+                "confidence": 0.9999, "min_iterations": 1000},
+    "colmap": {"frame": False, "refine": False, "n_hypotheses": 100_000, "threshold": 3.0,
+               "confidence": 0.9999, "min_iterations": 1000},
 }
 
 #: The protocol of a registered homography strategy without an entry in :data:`PROTOCOLS`.
