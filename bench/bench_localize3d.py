@@ -27,22 +27,8 @@ import numpy as np
 
 from clap_unified.localization.localize3d import align_correspondences, pose_errors
 from clap_unified.localization.open3d_baselines import open3d_correspondence_ransac
-from clap_unified.localization.scene3d import View3D, mocap_trajectory
+from clap_unified.localization.scene3d import correspondence_scene
 from clap_unified.viz import format_table
-
-
-def scene(n, outlier_ratio, seed):
-    """``(n, 6)`` correspondences and the true pose."""
-    view = View3D()
-    g = np.random.default_rng(seed)
-    truth = mocap_trajectory(50, rng=seed)[seed % 50]
-    p = view.random_points(n, g)
-    r = np.linalg.norm(p, axis=1)
-    q = p @ truth[:3, :3].T + truth[:3, 3]
-    q += g.normal(size=(n, 3)) * (view.sigma + view.range_growth * r)[:, None]
-    bad = g.permutation(n)[:int(round(outlier_ratio * n))]
-    q[bad] = g.uniform([0.0, -5.0, 0.0], [8.0, 5.0, 2.5], (len(bad), 3))
-    return np.c_[p, q], truth
 
 
 def open3d_run(data, threshold, iterations, seed):
@@ -81,7 +67,8 @@ def main(argv=None) -> None:
         "open3d (budget) + refit": lambda d, s: align_correspondences(
             d, method="open3d", n_hypotheses=b, threshold=t, rng=s).model,
     }
-    scenes = [scene(args.correspondences, args.outliers, s) for s in range(args.scenes)]
+    scenes = [correspondence_scene(args.correspondences, args.outliers, s)
+              for s in range(args.scenes)]
     for fn in methods.values():  # warm-up: imports, caches
         fn(scenes[0][0], 0)
     stats = {}

@@ -49,7 +49,7 @@ from ..geometry.so3 import so3_exp
 from .map3d import LandmarkMap3D
 
 __all__ = ["View3D", "Detections3D", "DetectionInput3D", "DetectionTruth3D", "mocap_trajectory",
-           "simulate_detections", "associate_nearest"]
+           "simulate_detections", "associate_nearest", "correspondence_scene"]
 
 
 @dataclass(frozen=True)
@@ -393,3 +393,49 @@ def simulate_detections(landmark_map: LandmarkMap3D, pose, *, outlier_ratio: flo
         association = associate_nearest(data, landmark_map, prior)
     truth = DetectionTruth3D(T.copy(), landmark[order].astype(int), kind[order], clean[order])
     return Detections3D(DetectionInput3D(data, names, prior, association), truth)
+
+
+def correspondence_scene(n: int, outlier_ratio: float, seed: int):
+    """Putative 3D correspondences ``(n, 6)`` rows ``(p_body, q_world)`` and the true pose.
+
+    The pose is frame ``seed % 50`` of :func:`mocap_trajectory` (50 frames,
+    ``rng=seed``); ``p`` are random points in the view of :class:`View3D`,
+    ``q`` their world positions with the view's range-dependent noise; a
+    fraction ``outlier_ratio`` of the ``q`` are replaced by uniform points in
+    the lab. The benchmark ``bench/bench_localize3d.py`` and the performance
+    chapter use it. The pose is evaluation data: only the correspondences go
+    to an estimator.
+
+    Parameters
+    ----------
+    n : int
+        Number of correspondences.
+    outlier_ratio : float
+        Share of wrong correspondences, in ``[0, 1]``.
+    seed : int
+
+    Returns
+    -------
+    data : ndarray of shape (n, 6)
+    truth : ndarray of shape (4, 4)
+
+    Examples
+    --------
+    >>> data, T = correspondence_scene(50, 0.6, 0)
+    >>> data.shape, T.shape
+    ((50, 6), (4, 4))
+    """
+    from .._validation import check_fraction, check_int
+
+    n = check_int(n, "n", minimum=3)
+    outlier_ratio = check_fraction(outlier_ratio, "outlier_ratio")
+    view = View3D()
+    g = np.random.default_rng(seed)
+    truth = mocap_trajectory(50, rng=seed)[seed % 50]
+    p = view.random_points(n, g)
+    r = np.linalg.norm(p, axis=1)
+    q = p @ truth[:3, :3].T + truth[:3, 3]
+    q += g.normal(size=(n, 3)) * (view.sigma + view.range_growth * r)[:, None]
+    bad = g.permutation(n)[:int(round(outlier_ratio * n))]
+    q[bad] = g.uniform([0.0, -5.0, 0.0], [8.0, 5.0, 2.5], (len(bad), 3))
+    return np.c_[p, q], truth
