@@ -267,7 +267,7 @@ def run_clap(space, data, hypotheses: HypothesisSet, *, threshold: float, prior=
                 near = tree.ball(seed, bw)
                 near = near[available[near]]
                 available[tree.ball(seed, suppress * bw)] = False
-                sub = manifold.pairwise_distance(models[near]) if len(near) else None
+                sub = tree.pairwise(near) if len(near) else None
             else:
                 d_seed = (dist[seed] if dist is not None
                           else manifold.distance(models[seed], models))
@@ -282,14 +282,16 @@ def run_clap(space, data, hypotheses: HypothesisSet, *, threshold: float, prior=
                 c = models[near[b]]  # the medoid is a hypothesis: its row is known
                 spread = _median(sub[b, keep])
                 d_centre = dist[near[b]] if dist is not None else None
+                centre_index = near[b]
             else:
                 c, keep = _robust_centre(manifold, models[near], distances=sub, **robust)
                 d_centre = manifold.distance(c, models) if tree is None else None
-                spread = None
+                spread = centre_index = None
             # suppress around the centre too, so the rest of a wide cluster cannot
             # seed a second "possibility" that is the same answer
             if tree is not None:
-                available[tree.ball_of(manifold.chordal_embedding(c), suppress * bw)] = False
+                available[tree.ball(centre_index, suppress * bw) if centre_index is not None
+                          else tree.ball_of(manifold.chordal_embedding(c), suppress * bw)] = False
             else:
                 available &= d_centre > suppress * bw
             members = index[near[keep]]

@@ -205,6 +205,13 @@ class EmbeddedNeighbours:
             return np.zeros(0, dtype=np.intp)
         return np.sort(self.index[self.tree.query_ball_point(vector, radius)])
 
+    def pairwise(self, idx) -> np.ndarray:
+        """The distance matrix among ``points[idx]`` (points that have an embedding)."""
+        from scipy.spatial.distance import cdist
+
+        e = self.embedding[idx]
+        return cdist(e, e)
+
     def auto_bandwidth(self, *, k: int | None = None, quantile: float = 0.1) -> float:
         """:func:`auto_bandwidth` from the tree (the same rule, no matrix)."""
         n = len(self.index)
