@@ -305,7 +305,8 @@ def run_clap(space, data, hypotheses: HypothesisSet, *, threshold: float, prior=
         clusters.sort(key=lambda cl: -cl.support)
 
     if select == "consensus":
-        clusters, costs = _by_consensus(space, data, clusters, threshold, n_refine)
+        clusters, costs = _by_consensus(space, data, clusters, threshold, n_refine,
+                                        diag.get("bandwidth"))
         diag["consensus_costs"] = costs
     best = clusters[0]
     diag["clusters"] = len(clusters)
@@ -327,8 +328,14 @@ def _msac_cost(space, models, data, threshold) -> np.ndarray:
     return np.minimum(r * r, threshold * threshold).sum(axis=1)
 
 
-def _by_consensus(space, data, clusters, threshold, n_refine):
-    """Clusters ordered by the MSAC cost of their centres, the best few refined first."""
+def _by_consensus(space, data, clusters, threshold, n_refine, bandwidth=None):
+    """Clusters ordered by the MSAC cost of their centres, the best few refined first.
+
+    Refinement can carry several clusters to one answer; a cluster whose
+    model ends within ``bandwidth`` of a better one's is merged into it
+    (support and members added), so every reported cluster is a distinct
+    answer.
+    """
     cost = _msac_cost(space, np.stack([c.model for c in clusters]), data, threshold)
     clusters = list(clusters)
     for j in np.argsort(cost, kind="stable")[:n_refine]:
@@ -338,7 +345,22 @@ def _by_consensus(space, data, clusters, threshold, n_refine):
             clusters[j] = dataclasses.replace(clusters[j], model=model)
             cost[j] = refined
     order = np.argsort(cost, kind="stable")
-    return [clusters[j] for j in order], cost[order]
+    kept, costs = [], []
+    manifold = space.manifold
+    for j in order:
+        c = clusters[j]
+        if bandwidth is not None and kept:
+            d = manifold.distance(c.model, np.stack([k.model for k in kept]))
+            near = np.flatnonzero(d <= bandwidth)
+            if len(near):
+                k = int(near[0])
+                kept[k] = dataclasses.replace(
+                    kept[k], support=kept[k].support + c.support,
+                    members=np.union1d(kept[k].members, c.members))
+                continue
+        kept.append(c)
+        costs.append(cost[j])
+    return kept, np.array(costs)
 
 
 def _median(values) -> float:
