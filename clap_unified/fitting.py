@@ -19,6 +19,7 @@ from __future__ import annotations
 import dataclasses
 import functools
 import inspect
+import math
 import time
 
 import numpy as np
@@ -29,7 +30,11 @@ from .result import ConsensusResult
 from .spaces.base import HypothesisSet, HypothesisSpace
 from .spaces.lines import LineSpace
 
-__all__ = ["compare", "fit", "fit_line"]
+__all__ = ["ALL_INLIER_SAMPLES", "compare", "fit", "fit_line"]
+
+#: ``fit(max_hypotheses=...)`` draws hypotheses until about this many all-inlier
+#: minimal samples are expected among them.
+ALL_INLIER_SAMPLES = 5
 
 #: Arguments :func:`fit` gives every strategy's ``run``; the rest are its options.
 COMMON = ("threshold", "prior", "radius", "rng", "n_hypotheses")
@@ -38,7 +43,7 @@ COMMON = ("threshold", "prior", "radius", "rng", "n_hypotheses")
 def fit(space, data, method: str = "clap", *, n_hypotheses: int = 1000,
         threshold: float | None = None, rng=None, hypotheses: HypothesisSet | None = None,
         prior=None, radius=None, refine: bool = True, sampling: dict | None = None,
-        **options) -> ConsensusResult:
+        max_hypotheses: int | None = None, **options) -> ConsensusResult:
     """Robust estimate of one model of ``space`` from ``data`` by the strategy ``method``.
 
     Parameters
@@ -74,6 +79,18 @@ def fit(space, data, method: str = "clap", *, n_hypotheses: int = 1000,
     sampling : dict, optional
         Space-specific options of hypothesis generation (e.g. ``quality`` of
         homography matches for progressive sampling).
+    max_hypotheses : int, optional
+        Adaptive budget, for strategies that use hypotheses fit generates.
+        After a first fit with ``n_hypotheses``, the inlier ratio ``w`` of its
+        estimate says how many all-inlier minimal samples to expect,
+        ``n_hypotheses * w**min_samples``; when that is below
+        :data:`ALL_INLIER_SAMPLES`, ``min(max_hypotheses,
+        ceil(ALL_INLIER_SAMPLES / w**min_samples))`` hypotheses are drawn
+        (the same generator, continued) and fitted again, and the estimate
+        with more inliers is returned (``diagnostics["adaptive_hypotheses"]``:
+        the second budget, or ``n_hypotheses`` when one fit was enough). The
+        counterpart of RANSAC's adaptive stopping for a strategy that needs
+        several right hypotheses, not one.
     **options
         The strategy's own options (e.g. ``bandwidth`` for CLAP,
         ``cell_size`` for randomized Hough, ``score`` for RANSAC).
@@ -132,6 +149,27 @@ def fit(space, data, method: str = "clap", *, n_hypotheses: int = 1000,
             radius = check_array(radius, "radius", shape=(None,))
             if len(radius) == 0 or np.any(radius <= 0):
                 raise ValueError(f"radius: expected positive bounds, got {radius.tolist()}")
+    if max_hypotheses is not None:
+        max_hypotheses = check_int(max_hypotheses, "max_hypotheses", minimum=n_hypotheses)
+        if hypotheses is not None or not strategy.uses_hypotheses or strategy.draws_samples:
+            raise ValueError(f"max_hypotheses: only for a strategy that uses hypotheses fit "
+                             f"generates (not with hypotheses=, not for {method!r})"
+                             if hypotheses is None else
+                             "max_hypotheses: not with hypotheses= (fit draws no more)")
+        g = as_generator(rng)
+        again = dict(threshold=threshold, prior=prior, radius=radius, refine=refine,
+                     sampling=sampling, **options)
+        first = fit(space, data, method, n_hypotheses=n_hypotheses, rng=g, **again)
+        w = first.n_inliers / len(data) if first.success else 0.0
+        need = (max_hypotheses if w == 0 else
+                min(max_hypotheses, math.ceil(ALL_INLIER_SAMPLES / w ** space.min_samples)))
+        best = first
+        if need > n_hypotheses:
+            second = fit(space, data, method, n_hypotheses=need, rng=g, **again)
+            if second.success and (not first.success or second.n_inliers > first.n_inliers):
+                best = second
+        return best.replace(diagnostics={"adaptive_hypotheses": max(need, n_hypotheses),
+                                         "seconds": time.perf_counter() - t0})
     g = rng  # a Generator is made only when something draws (it costs ~30 us unseeded)
     n = len(data)
     diag = {}

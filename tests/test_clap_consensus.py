@@ -130,3 +130,38 @@ def test_knn_density_and_consensus_work_in_any_space():
     res = fit(LineSpace.for_data(pts), pts, "clap", threshold=0.05, rng=0, density="knn",
               select="consensus", max_clusters=10, min_support=1)
     assert res.success and res.n_inliers >= 45
+
+
+def test_adaptive_budget_draws_more_only_when_right_samples_are_rare():
+    from clap_unified.imaging.datasets import synthetic_pair
+
+    space = HomographySpace.for_data
+    easy, _, _ = _decoy_pair(5)
+    opts = dict(PROTOCOLS["clap"])
+    for key in ("frame", "metric", "polish", "max_hypotheses"):
+        opts.pop(key)
+    s = space(easy, metric="transfer", polish=2.0)
+    plain = fit(s, easy, "clap", rng=4, **opts)
+    adaptive = fit(s, easy, "clap", rng=4, max_hypotheses=10_000, **opts)
+    assert adaptive.diagnostics["adaptive_hypotheses"] == opts["n_hypotheses"]
+    assert np.array_equal(plain.model, adaptive.model)
+    hard = synthetic_pair(0.12, n_matches=400, rng=2)
+    m = hard.input.matches
+    a = estimate_homography(m, "clap", rng=1)
+    b = estimate_homography(m, "clap", rng=1)
+    assert a.diagnostics["adaptive_hypotheses"] > 1000
+    assert np.array_equal(a.model, b.model)
+
+
+def test_adaptive_budget_needs_hypotheses_fit_draws():
+    m, _, _ = _decoy_pair(6)
+    s = HomographySpace.for_data(m, metric="transfer")
+    with pytest.raises(ValueError, match="max_hypotheses"):
+        fit(s, m, "ransac", max_hypotheses=5000)
+    hyps = s.hypotheses(m, 200, rng=0)
+    with pytest.raises(ValueError, match="max_hypotheses"):
+        fit(s, m, "clap", hypotheses=hyps, max_hypotheses=5000)
+    with pytest.raises(ValueError, match="max_hypotheses"):
+        fit(s, m, "clap", n_hypotheses=500, max_hypotheses=100)
+    # given hypotheses: the protocol's adaptive budget steps aside
+    assert estimate_homography(m, "clap", hypotheses=hyps, rng=0).success

@@ -16,6 +16,9 @@ gets :data:`DEFAULT_PROTOCOL`):
   best three refined, the best after refinement is the answer
   (``select="consensus"``); refinement is the DLT refit and the reweighted
   DLT with weights reaching zero at twice the threshold (``polish=2.0``).
+  When the estimate's inlier ratio says fewer than five all-inlier samples
+  are expected among the 1000, up to 10000 candidates are drawn and
+  clustered again (``max_hypotheses``, see :func:`~clap_unified.fit`).
   Every other cluster is reported too: a second, coherent motion in the
   matches shows up as the second cluster;
 * ``"clap_paper"`` (the paper's, Sec. "Image Stitching Results"): 400
@@ -68,7 +71,7 @@ PROTOCOLS = {
     "clap": {"frame": True, "metric": "transfer", "polish": 2.0, "n_hypotheses": 1000,
              "threshold": 3.0, "density": "knn", "k": 2, "bandwidth": 3.0, "suppress": 3.0,
              "rounds": 0, "max_clusters": 16, "min_support": 1, "select": "consensus",
-             "n_refine": 3},
+             "n_refine": 3, "max_hypotheses": 10_000},
     "clap_paper": {"strategy": "clap", "frame": True, "metric": "lie_linear", "polish": True,
                    "n_hypotheses": 400, "threshold": 3.0, "bandwidth_quantile": 0.02,
                    "rounds": 5, "discard_fraction": 0.2},
@@ -176,6 +179,8 @@ def estimate_homography(matches, method: str = "clap", *, rng=None, quality=None
                          "are needed for a robust homography")
     settings = {**_SPACE_KEYS, **PROTOCOLS.get(method, DEFAULT_PROTOCOL), **options}
     strategy = settings.pop("strategy", method)
+    if "hypotheses" in options and "max_hypotheses" not in options:
+        settings.pop("max_hypotheses", None)  # given hypotheses: nothing more to draw
     frame, metric, polish = (settings.pop(k) for k in _SPACE_KEYS)
     space = (HomographySpace.for_data(data, metric=metric, polish=polish) if frame
              else HomographySpace(polish=polish))
