@@ -165,3 +165,9 @@ def test_adaptive_budget_needs_hypotheses_fit_draws():
         fit(s, m, "clap", n_hypotheses=500, max_hypotheses=100)
     # given hypotheses: the protocol's adaptive budget steps aside
     assert estimate_homography(m, "clap", hypotheses=hyps, rng=0).success
+
+
+def test_a_budget_above_the_protocols_cap_raises_the_cap():
+    m, _, _ = _decoy_pair(7)
+    res = estimate_homography(m, "clap", n_hypotheses=12_000, rng=0)
+    assert res.success and res.diagnostics["adaptive_hypotheses"] == 12_000

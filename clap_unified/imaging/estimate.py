@@ -179,8 +179,12 @@ def estimate_homography(matches, method: str = "clap", *, rng=None, quality=None
                          "are needed for a robust homography")
     settings = {**_SPACE_KEYS, **PROTOCOLS.get(method, DEFAULT_PROTOCOL), **options}
     strategy = settings.pop("strategy", method)
-    if "hypotheses" in options and "max_hypotheses" not in options:
-        settings.pop("max_hypotheses", None)  # given hypotheses: nothing more to draw
+    if "max_hypotheses" not in options and settings.get("max_hypotheses") is not None:
+        if "hypotheses" in options:
+            settings.pop("max_hypotheses")  # given hypotheses: nothing more to draw
+        elif "n_hypotheses" in options:  # a budget above the protocol's cap raises the cap
+            settings["max_hypotheses"] = max(settings["max_hypotheses"],
+                                             int(options["n_hypotheses"]))
     frame, metric, polish = (settings.pop(k) for k in _SPACE_KEYS)
     space = (HomographySpace.for_data(data, metric=metric, polish=polish) if frame
              else HomographySpace(polish=polish))
