@@ -4,9 +4,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from .._validation import as_generator
+from .._validation import as_generator, check_fraction, check_int
+from ..result import Consensus
 
-__all__ = ["degenerate_reason", "seed_of"]
+__all__ = ["degenerate_reason", "run_peer", "seed_of"]
 
 
 def seed_of(rng) -> int:
@@ -59,3 +60,64 @@ def degenerate_reason(data) -> str | None:
         if s[-1] <= 1e-9 * max(s[0], 1.0):
             return f"the points of image {k} are collinear or identical"
     return None
+
+
+def run_peer(label: str, key: str, call, data, *, threshold: float, rng, n_hypotheses: int,
+             confidence: float, min_iterations: int) -> Consensus:
+    """The body every peer strategy shares: checks, seed, degeneracy, the call, the result.
+
+    Parameters
+    ----------
+    label : str
+        The peer's name in reasons (``"PoseLib"``).
+    key : str
+        Prefix of its diagnostics (``"poselib"``: ``poselib_mask``,
+        ``poselib_inliers``).
+    call : callable
+        ``call(src, dst, threshold, max_iterations, min_iterations,
+        confidence, seed) -> (H or None, mask, extra_diagnostics)``.
+    data : ndarray of shape (N, 4)
+        Checked matches.
+    threshold, rng, n_hypotheses, confidence, min_iterations
+        As documented by the strategies (:func:`~clap_unified.external.poselib.run_poselib`).
+
+    Returns
+    -------
+    Consensus
+        ``H33 = 1``, score: the size of the peer's inlier mask; a failure with
+        a reason for degenerate matches, no answer, a non-finite answer or an
+        empty mask.
+
+    Examples
+    --------
+    >>> t = np.arange(10.0)
+    >>> data = np.c_[t, t ** 2, t, t ** 2]
+    >>> c = run_peer("Identity", "id", lambda *a: (np.eye(3), np.ones(10, bool), {}), data,
+    ...              threshold=1.0, rng=0, n_hypotheses=10, confidence=0.99, min_iterations=0)
+    >>> c.model.tolist() == np.eye(3).tolist(), c.diagnostics["id_inliers"]
+    (True, 10)
+    """
+    confidence = check_fraction(confidence, "confidence", inclusive=(False, False))
+    min_iterations = check_int(min_iterations, "min_iterations", minimum=0)
+    seed = seed_of(rng)
+    why = degenerate_reason(data)
+    if why is not None:
+        return Consensus.failed(f"no homography: {why}", seed=seed)
+    src = np.ascontiguousarray(data[:, :2], dtype=np.float64)
+    dst = np.ascontiguousarray(data[:, 2:], dtype=np.float64)
+    H, mask, extra = call(src, dst, float(threshold), int(n_hypotheses),
+                          min(min_iterations, int(n_hypotheses)), confidence, seed)
+    if H is None:
+        return Consensus.failed(f"{label} found no homography", seed=seed)
+    H = np.asarray(H, dtype=float)
+    mask = np.asarray(mask, dtype=bool).reshape(-1)
+    if len(mask) != len(data):
+        mask = np.zeros(len(data), bool)
+    diagnostics = {f"{key}_mask": mask, f"{key}_inliers": int(mask.sum()), **extra,
+                   "seed": seed}
+    if not np.all(np.isfinite(H)) or abs(H[2, 2]) < 1e-12:
+        return Consensus.failed(f"{label} found no homography (non-finite model)",
+                                **diagnostics)
+    if not mask.any():
+        return Consensus.failed(f"{label} found no homography (no inliers)", **diagnostics)
+    return Consensus(H / H[2, 2], score=float(mask.sum()), diagnostics=diagnostics)

@@ -46,12 +46,11 @@ Examples
 
 from __future__ import annotations
 
-import numpy as np
+import numpy as np  # noqa: F401  (the doctests)
 
-from .._validation import check_fraction, check_int
 from ..registry import Strategy, register_strategy
 from ..result import Consensus
-from ._peers import degenerate_reason, seed_of
+from ._peers import run_peer
 
 __all__ = ["run_colmap"]
 
@@ -113,30 +112,19 @@ def run_colmap(space, data, hypotheses, *, threshold: float, prior=None, radius=
     ([[2.0, 0.0, 0.0], [0.0, 2.0, 0.0], [0.0, 0.0, 1.0]], 50)
     """
     pycolmap = _import_pycolmap()
-    confidence = check_fraction(confidence, "confidence", inclusive=(False, False))
-    min_iterations = check_int(min_iterations, "min_iterations", minimum=0)
-    seed = seed_of(rng)
-    why = degenerate_reason(data)
-    if why is not None:
-        return Consensus.failed(f"no homography: {why}", seed=seed)
-    src = np.ascontiguousarray(data[:, :2], dtype=np.float64)
-    dst = np.ascontiguousarray(data[:, 2:], dtype=np.float64)
-    opt = pycolmap.RANSACOptions(
-        max_error=float(threshold), max_num_trials=int(n_hypotheses),
-        min_num_trials=min(min_iterations, int(n_hypotheses)), confidence=confidence,
-        random_seed=seed, num_threads=1)
-    answer = pycolmap.estimate_homography_matrix(src, dst, opt)
-    if answer is None:
-        return Consensus.failed("COLMAP found no homography", seed=seed)
-    H = np.asarray(answer["H"], dtype=float)
-    mask = np.asarray(answer.get("inlier_mask", []), dtype=bool).reshape(-1)
-    if len(mask) != len(data):
-        mask = np.zeros(len(data), bool)
-    diagnostics = {"colmap_mask": mask, "colmap_inliers": int(mask.sum()), "seed": seed}
-    if not np.all(np.isfinite(H)) or abs(H[2, 2]) < 1e-12:
-        return Consensus.failed("COLMAP found no homography (non-finite model)",
-                                **diagnostics)
-    return Consensus(H / H[2, 2], score=float(mask.sum()), diagnostics=diagnostics)
+
+    def call(src, dst, t, max_iterations, min_iter, conf, seed):
+        opt = pycolmap.RANSACOptions(max_error=t, max_num_trials=max_iterations,
+                                     min_num_trials=min_iter, confidence=conf,
+                                     random_seed=seed, num_threads=1)
+        answer = pycolmap.estimate_homography_matrix(src, dst, opt)
+        if answer is None:
+            return None, [], {}
+        return answer["H"], answer.get("inlier_mask", []), {}
+
+    return run_peer("COLMAP", "colmap", call, data, threshold=threshold, rng=rng,
+                    n_hypotheses=n_hypotheses, confidence=confidence,
+                    min_iterations=min_iterations)
 
 
 register_strategy(Strategy(

@@ -44,12 +44,11 @@ Examples
 
 from __future__ import annotations
 
-import numpy as np
+import numpy as np  # noqa: F401  (the doctests)
 
-from .._validation import check_fraction, check_int
 from ..registry import Strategy, register_strategy
 from ..result import Consensus
-from ._peers import degenerate_reason, seed_of
+from ._peers import run_peer
 
 __all__ = ["run_poselib"]
 
@@ -110,32 +109,18 @@ def run_poselib(space, data, hypotheses, *, threshold: float, prior=None, radius
     ([[2.0, 0.0, 0.0], [0.0, 2.0, 0.0], [0.0, 0.0, 1.0]], 50)
     """
     poselib = _import_poselib()
-    confidence = check_fraction(confidence, "confidence", inclusive=(False, False))
-    min_iterations = check_int(min_iterations, "min_iterations", minimum=0)
-    seed = seed_of(rng)
-    why = degenerate_reason(data)
-    if why is not None:
-        return Consensus.failed(f"no homography: {why}", seed=seed)
-    src = np.ascontiguousarray(data[:, :2], dtype=np.float64)
-    dst = np.ascontiguousarray(data[:, 2:], dtype=np.float64)
-    opt = {"max_reproj_error": float(threshold), "max_iterations": int(n_hypotheses),
-           "min_iterations": min(min_iterations, int(n_hypotheses)),
-           "success_prob": confidence, "seed": seed}
-    H, info = poselib.estimate_homography(src, dst, opt)
-    H = np.asarray(H, dtype=float)
-    mask = np.asarray(info.get("inliers", []), dtype=bool).reshape(-1)
-    if len(mask) != len(data):
-        mask = np.zeros(len(data), bool)
-    diagnostics = {"poselib_mask": mask, "poselib_inliers": int(mask.sum()),
-                   "poselib_iterations": int(info.get("iterations", 0)),
-                   "poselib_refinements": int(info.get("refinements", 0)), "seed": seed}
-    if not np.all(np.isfinite(H)) or abs(H[2, 2]) < 1e-12:
-        return Consensus.failed("PoseLib found no homography (non-finite model)",
-                                **diagnostics)
-    if not mask.any():
-        return Consensus.failed("PoseLib found no homography (no inliers)",
-                                **diagnostics)
-    return Consensus(H / H[2, 2], score=float(mask.sum()), diagnostics=diagnostics)
+
+    def call(src, dst, t, max_iterations, min_iter, conf, seed):
+        opt = {"max_reproj_error": t, "max_iterations": max_iterations,
+               "min_iterations": min_iter, "success_prob": conf, "seed": seed}
+        H, info = poselib.estimate_homography(src, dst, opt)
+        return H, info.get("inliers", []), {
+            "poselib_iterations": int(info.get("iterations", 0)),
+            "poselib_refinements": int(info.get("refinements", 0))}
+
+    return run_peer("PoseLib", "poselib", call, data, threshold=threshold, rng=rng,
+                    n_hypotheses=n_hypotheses, confidence=confidence,
+                    min_iterations=min_iterations)
 
 
 register_strategy(Strategy(
