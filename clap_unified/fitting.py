@@ -151,11 +151,11 @@ def fit(space, data, method: str = "clap", *, n_hypotheses: int = 1000,
                 raise ValueError(f"radius: expected positive bounds, got {radius.tolist()}")
     if max_hypotheses is not None:
         max_hypotheses = check_int(max_hypotheses, "max_hypotheses", minimum=n_hypotheses)
-        if hypotheses is not None or not strategy.uses_hypotheses or strategy.draws_samples:
+        if hypotheses is not None:
+            raise ValueError("max_hypotheses: not with hypotheses= (fit draws no more)")
+        if not strategy.uses_hypotheses or strategy.draws_samples:
             raise ValueError(f"max_hypotheses: only for a strategy that uses hypotheses fit "
-                             f"generates (not with hypotheses=, not for {method!r})"
-                             if hypotheses is None else
-                             "max_hypotheses: not with hypotheses= (fit draws no more)")
+                             f"generates (not with hypotheses=, not for {method!r})")
         g = as_generator(rng)
         again = dict(threshold=threshold, prior=prior, radius=radius, refine=refine,
                      sampling=sampling, **options)

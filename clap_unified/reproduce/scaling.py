@@ -41,6 +41,11 @@ FIXED = {"data": 1000, "hypotheses": 500}
 def scaling_problem(kind: str, n: int, *, seed: int = 0) -> np.ndarray:
     """Seeded data of ``n`` rows for ``kind``: half inliers, half uniform outliers.
 
+    A line scene of :func:`~clap_unified.viz.scenes.line_scene` (noise 0.05)
+    or the matches of a
+    :func:`~clap_unified.imaging.datasets.synthetic_pairs.synthetic_pair`
+    (noise 0.5 px); the evaluation data of either stays behind.
+
     Examples
     --------
     >>> scaling_problem("homography", 10).shape, scaling_problem("line", 10).shape
@@ -48,18 +53,13 @@ def scaling_problem(kind: str, n: int, *, seed: int = 0) -> np.ndarray:
     """
     check_choice(kind, "kind", set(METHODS))
     n = check_int(n, "n", minimum=8)
-    g = np.random.default_rng(seed)
     if kind == "line":
-        x = g.uniform(-10, 10, n)
-        pts = np.c_[x, 0.3 * x + 1 + g.normal(0, 0.05, n)]
-        pts[: n // 2] = g.uniform(-10, 10, (n // 2, 2))
-        return pts
-    H = np.array([[0.95, 0.08, 25.0], [-0.06, 1.03, -10.0], [2e-5, 1e-5, 1.0]])
-    src = g.uniform(0, 640, (n, 2))
-    p = np.c_[src, np.ones(n)] @ H.T
-    dst = p[:, :2] / p[:, 2:] + g.normal(0, 0.5, (n, 2))
-    dst[: n // 2] = g.uniform(0, 640, (n // 2, 2))
-    return np.c_[src, dst]
+        from ..viz.scenes import line_scene
+
+        return line_scene(n, 0.5, rng=seed).input.points
+    from ..imaging.datasets.synthetic_pairs import synthetic_pair
+
+    return synthetic_pair(0.5, n_matches=n, noise=0.5, rng=seed).input.matches
 
 
 def _fit(kind, method, data, n_hypotheses, seed):
