@@ -84,7 +84,7 @@ def fit(space, data, method: str = "clap", *, n_hypotheses: int = 1000,
         After a first fit with ``n_hypotheses``, the inlier ratio ``w`` of its
         estimate says how many all-inlier minimal samples to expect,
         ``n_hypotheses * w**min_samples``; when that is below
-        :data:`ALL_INLIER_SAMPLES`, ``min(max_hypotheses,
+        :data:`~clap_unified.fitting.ALL_INLIER_SAMPLES`, ``min(max_hypotheses,
         ceil(ALL_INLIER_SAMPLES / w**min_samples))`` hypotheses are drawn
         (the same generator, continued) and fitted again, and the estimate
         with more inliers is returned (``diagnostics["adaptive_hypotheses"]``:
@@ -333,7 +333,7 @@ def compare(space, data, *, methods=("randomized_hough", "ransac", "clap"),
 
 def fit_line(points, method: str = "clap", *, n_hypotheses: int = 1000,
              threshold: float | None = None, rng=None, **options) -> ConsensusResult:
-    """Fit one line to 2D points: :func:`fit` in :meth:`LineSpace.for_data(points)`.
+    """Fit one line to 2D points: :func:`fit` in ``LineSpace.for_data(points)``.
 
     Parameters
     ----------

@@ -13,7 +13,7 @@ Two kinds of problem:
   outliers (noise 0.5 px), fitted by :func:`~clap_unified.imaging.estimate_homography`
   with the library's default ``"clap"`` (k-d tree density: ``O(H log H)``
   time, ``O(H)`` memory) and the paper's ``"clap_paper"`` (an ``H x H``
-  distance matrix up to :data:`~clap_unified.clap.clap.DENSE_LIMIT`
+  distance matrix up to ``DENSE_LIMIT`` of :mod:`clap_unified.clap.clap`
   hypotheses, blocks beyond);
 * ``"line"``: points on a line, half of them outliers, fitted by
   :func:`~clap_unified.fit_line` with ``"clap"`` (the line manifold has no
@@ -85,7 +85,7 @@ def scaling_runs(kind: str, sizes, *, vary: str = "hypotheses", methods=None,
         ``FIXED["hypotheses"]``).
     vary : {"hypotheses", "data"}
     methods : sequence of str, optional
-        Default :data:`METHODS` of ``kind``.
+        Default ``METHODS[kind]``.
     repeat : int
         Timed runs per size; the time is their median, the memory the peak of
         a separate traced run (tracing slows numpy down).
