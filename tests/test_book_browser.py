@@ -57,6 +57,7 @@ const collect = () => {
         typeset: maths.filter(m => m.querySelector('mjx-container')).length,
         containers: document.querySelectorAll('mjx-container').length,
         raw: ['$$', '\\\\(', '\\\\[', '\\\\begin{'].filter(d => visible.includes(d)),
+        notes: (visible.match(/NBVAL|nbval|\\bTODO\\b|\\bFIXME\\b|\\bticket\\b/g) || []),
         images, scripts, links, origin: location.origin});
 };
 const images = [...document.images].map(img => img.complete ? Promise.resolve()
@@ -131,6 +132,12 @@ def test_math_is_typeset_offline(page, chapter):
     assert not facts["raw"], f"raw TeX delimiters visible: {facts['raw']}"
     remote = [s for s in facts["scripts"] if not s.startswith(facts["origin"])]
     assert not remote, f"scripts loaded from elsewhere: {remote}"
+
+
+@pytest.mark.parametrize("chapter", CHAPTERS)
+def test_no_notes_for_the_authors_on_the_page(page, chapter):
+    notes = page(f"chapters/{chapter}")["notes"]
+    assert not notes, f"text meant for the authors, not the reader: {notes}"
 
 
 @pytest.mark.parametrize("chapter", CHAPTERS)
