@@ -20,8 +20,8 @@ Two kinds of problem:
   distance matrix up to :data:`~clap_unified.clap.clap.DENSE_LIMIT`
   hypotheses, blocks beyond);
 * ``"line"``: points on a line, half of them outliers, fitted by
-  :func:`~clap_unified.fit_line` with ``"clap"`` (the line manifold has no
-  exact Euclidean embedding: the matrix path).
+  :func:`~clap_unified.fit_line` with ``"clap"`` (lines compared by the
+  anchor-transfer metric: k-d tree density, as for homographies).
 """
 
 from __future__ import annotations
