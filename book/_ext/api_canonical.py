@@ -1,10 +1,20 @@
-"""Document every public object of ``clap_unified`` once, at its public path.
+"""The API reference: every public object of ``clap_unified`` described once, and found.
 
 The reference pages run ``automodule`` on each subpackage (its ``__all__``) and on each of
 its modules. An object re-exported by a package (``clap_unified.spaces.LineSpace``, defined
-in ``clap_unified.spaces.lines``) would then be described twice; this extension keeps the
-description at the deepest package that exports it and skips it everywhere else, so that
-``{py:class}`clap_unified.spaces.LineSpace``` has exactly one target.
+in ``clap_unified.spaces.lines``) would then be described twice; ``skip_member`` keeps the
+description at the deepest package that exports it (constants stay in their own module,
+where autodoc finds their ``#:`` comment) and skips it everywhere else.
+
+``resolve_canonical`` then resolves a reference written with an object's defining path, or
+with its short name inside a docstring, to that one description; a method named on a class
+that inherits it resolves to the class that defines it. What stays unresolved is a warning
+of the nitpicky build, fixed in the docstring.
+
+Two small adaptations: numpydoc sections of a *module* docstring (``Examples`` over dashes)
+become rubrics, since as reST section titles they clash with the page's headings; and
+``nitpick_ignore`` entries, lists when they come from ``_config.yml``, become the tuples
+Sphinx looks up.
 """
 
 from __future__ import annotations
@@ -17,7 +27,7 @@ import sys
 PACKAGE = "clap_unified"
 
 
-def _defining_module(module_name: str, name: str, obj) -> str | None:
+def _defining_module(name: str, obj) -> str | None:
     """The module that defines ``name``: ``__module__`` for functions and classes, the
     module whose source assigns it at top level for constants."""
     owner = getattr(obj, "__module__", None)
@@ -39,7 +49,7 @@ def _defining_module(module_name: str, name: str, obj) -> str | None:
 def canonical_module(module_name: str, name: str, obj) -> str | None:
     """Where ``name`` is documented: the deepest package that is a prefix of its defining
     module and lists it in ``__all__``; else the defining module."""
-    origin = _defining_module(module_name, name, obj)
+    origin = _defining_module(name, obj)
     if origin is None or not origin.startswith(PACKAGE):
         return None
     if not (inspect.isclass(obj) or inspect.isroutine(obj)):
