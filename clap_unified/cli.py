@@ -95,8 +95,8 @@ class _Progress:
 
             self._bar = tqdm(desc=self.command, file=sys.stderr, leave=False, unit="stage",
                              bar_format="{desc}: {postfix} [{elapsed}]")
-        self._bar.set_postfix_str(name, refresh=False)
         self._bar.update(1)
+        self._bar.set_postfix_str(name, refresh=True)  # shown while the stage runs
 
     def close(self) -> None:
         if self._bar is not None:

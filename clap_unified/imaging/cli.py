@@ -125,15 +125,22 @@ def read_image_checked(path, name: str) -> np.ndarray:
         raise ValueError(f"{name}: {exc}") from None
     size = _header_size(p)
     if size is not None and size[0] * size[1] > MAX_IMAGE_PIXELS:
-        raise ValueError(f"{name}: {p}: over {MAX_IMAGE_PIXELS // 10**6} megapixels")
-    # decode from memory: OpenCV then logs nothing about the path on stderr
+        raise ValueError(f"{name}: {p}: more than {MAX_IMAGE_PIXELS:,} pixels "
+                         f"({size[0]} x {size[1]})")
     buf = np.fromfile(p, dtype=np.uint8)
-    img = cv2.imdecode(buf, cv2.IMREAD_COLOR) if buf.size else None
+    level = cv2.utils.logging.getLogLevel()
+    cv2.utils.logging.setLogLevel(cv2.utils.logging.LOG_LEVEL_SILENT)  # our one line says it
+    try:
+        img = cv2.imdecode(buf, cv2.IMREAD_COLOR) if buf.size else None
+    except cv2.error:
+        img = None
+    finally:
+        cv2.utils.logging.setLogLevel(level)
     if img is None or img.size == 0:
         raise ValueError(f"{name}: {p}: not a readable image")
     if img.shape[0] * img.shape[1] > MAX_IMAGE_PIXELS:
-        raise ValueError(f"{name}: {p}: {img.shape[1]} x {img.shape[0]} pixels, at most "
-                         f"{MAX_IMAGE_PIXELS // 10**6} megapixels")
+        raise ValueError(f"{name}: {p}: more than {MAX_IMAGE_PIXELS:,} pixels "
+                         f"({img.shape[1]} x {img.shape[0]})")
     return img
 
 
