@@ -366,6 +366,13 @@ def test_input_limits(tmp_path, monkeypatch):
     obs = [{"type": "L", "x": float(i), "y": 0.0} for i in range(loc_cli.MAX_DETECTIONS + 1)]
     code, _, err = run(["localize2d", write(tmp_path, "o.json", json.dumps(obs))])
     assert code == 2 and f"at most {loc_cli.MAX_DETECTIONS}" in err
+    import clap_unified.localization.cli3d as cli3d
+
+    marks = [{"type": "a", "x": float(i), "y": 0.0, "z": 0.0}
+             for i in range(cli3d.MAX_LANDMARKS + 1)]
+    m = write(tmp_path, "m.json", json.dumps(marks))
+    code, _, err = run(["localize3d", m, "--map", m])
+    assert code == 2 and f"at most {cli3d.MAX_LANDMARKS}" in err and "m.json" in err
     monkeypatch.setattr(imaging_cli, "MAX_IMAGE_PIXELS", 1000)
     img = write(tmp_path, "big.png", _png((40, 40, 3)))
     code, _, err = run(["stitch", img, img, "-o", tmp_path / "pano.png"])

@@ -13,9 +13,10 @@ from .map3d import LandmarkMap3D, read_landmarks_json
 __all__ = ["MAX_DETECTIONS", "MAX_LANDMARKS", "register"]
 
 #: Detections in OBS.json at most.
-MAX_DETECTIONS = 1000
-#: Landmarks in MAP.json at most.
-MAX_LANDMARKS = 1000
+MAX_DETECTIONS = 500
+#: Landmarks in MAP.json at most: the candidates come from map triplets, whose number grows
+#: as the cube (200 landmarks of one type take about 10 s, 1000 over a minute).
+MAX_LANDMARKS = 200
 
 
 def _localize3d(args) -> dict:
