@@ -61,6 +61,7 @@ exit status:
   2  bad input (missing, unreadable or malformed file, bad option value, size beyond the
      limits): one line on standard error names the argument and the reason; nothing on
      standard output, no output file written
+  130  interrupted (Ctrl-C)
 
 A progress bar on standard error names the running stage (off with --quiet or when standard
 error is not a terminal)."""
@@ -91,7 +92,7 @@ class _Progress:
         if not self.enabled:
             return
         if self._bar is None:
-            from tqdm.auto import tqdm
+            from tqdm import tqdm
 
             self._bar = tqdm(desc=self.command, file=sys.stderr, leave=False, unit="stage",
                              bar_format="{desc}: {postfix} [{elapsed}]")
@@ -256,6 +257,10 @@ def main(argv=None) -> int:
             _one_line(exc)
         print(f"clap-unified {command}: error: {reason}", file=sys.stderr)
         return EXIT_BAD_INPUT
+    except KeyboardInterrupt:  # Ctrl-C: no traceback, the shell's status for SIGINT
+        args.progress.close()
+        print(f"clap-unified {command}: interrupted", file=sys.stderr)
+        return 130
     args.progress.close()
     print(json.dumps(out))
     return EXIT_OK if out.get("success", True) else EXIT_FAILED

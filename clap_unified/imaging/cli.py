@@ -206,8 +206,12 @@ def _write_atomic(out: Path, image: np.ndarray) -> None:
     panorama."""
     import cv2
 
-    fd, tmp = tempfile.mkstemp(suffix=out.suffix or ".png", prefix=f".{out.stem}.",
-                               dir=out.parent)
+    try:
+        fd, tmp = tempfile.mkstemp(suffix=out.suffix or ".png", prefix=f".{out.stem}.",
+                                   dir=out.parent)
+    except OSError as exc:
+        raise OSError(f"--output: {out}: cannot write in {out.parent} ({exc.strerror})") \
+            from None
     os.close(fd)
     try:
         try:
