@@ -1,7 +1,8 @@
 """Command line: ``clap-unified <command> ...`` (also ``python -m clap_unified``).
 
-Every command prints one JSON object on standard output and exits with one of three statuses
-(:data:`EXIT_STATUS`, shown in every command's ``--help``):
+Every command prints one JSON object on standard output (:data:`OUTPUT`) and exits with one
+of three statuses (:data:`EXIT_STATUS`, shown in every command's ``--help``; 130 when
+interrupted):
 
 * 0: success;
 * 1: the estimate failed; the JSON has ``"success": false`` and a ``reason``;
@@ -25,6 +26,7 @@ import argparse
 import importlib
 import json
 import sys
+import textwrap
 
 from . import __version__
 from .fitting import fit_line
@@ -33,7 +35,7 @@ from .registry import strategy_names
 from .result import ConsensusResult
 from .spaces import LineSpace
 
-__all__ = ["COMMANDS", "EXIT_BAD_INPUT", "EXIT_FAILED", "EXIT_OK", "EXIT_STATUS",
+__all__ = ["COMMANDS", "EXIT_BAD_INPUT", "EXIT_FAILED", "EXIT_OK", "EXIT_STATUS", "OUTPUT",
            "MAX_CLAP_HYPOTHESES", "MAX_HYPOTHESES", "MAX_WORK", "main"]
 
 #: Modules that add commands (each has ``register(subparsers)``).
@@ -48,23 +50,28 @@ COMMANDS = [
 #: Exit statuses, the same for every command.
 EXIT_OK, EXIT_FAILED, EXIT_BAD_INPUT = 0, 1, 2
 
-#: The exit-status convention, as every command's ``--help`` shows it.
-EXIT_STATUS = """\
+#: What the estimating commands print, as their ``--help`` shows it.
+OUTPUT = """\
 output:
   one JSON object on standard output: method, success, reason, model, inliers, data,
   threshold, score, clusters (each with model, support, spread), seconds, plus the
-  command's own keys.
+  command's own keys."""
 
+#: The exit-status convention, as every command's ``--help`` shows it.
+EXIT_STATUS = """\
 exit status:
-  0  success
-  1  the estimate failed: the JSON has "success": false and a "reason"
-  2  bad input (missing, unreadable or malformed file, bad option value, size beyond the
-     limits): one line on standard error names the argument and the reason; nothing on
-     standard output, no output file written
+  0    success
+  1    the estimate failed: the JSON has "success": false and a "reason"
+  2    bad input (missing, unreadable or malformed file, bad option value, size beyond the
+       limits): one line on standard error names the argument and the reason; nothing on
+       standard output, no output file written
   130  interrupted (Ctrl-C)
 
 A progress bar on standard error names the running stage (off with --quiet or when standard
 error is not a terminal)."""
+
+#: Commands whose output is not the common JSON form (their description says what it is).
+_OWN_OUTPUT = {"clap-unified reproduce"}
 
 #: ``--hypotheses`` at most (every method).
 MAX_HYPOTHESES = 1_000_000
@@ -164,15 +171,21 @@ def _parser() -> argparse.ArgumentParser:
     p = _Parser(prog="clap-unified",
                 description="Robust fitting by consensus: Hough, RANSAC and CLAP. Run "
                             "'clap-unified COMMAND --help' for a command's inputs and options.",
-                epilog=EXIT_STATUS, formatter_class=argparse.RawDescriptionHelpFormatter)
+                epilog=f"{OUTPUT}\n\n{EXIT_STATUS}",
+                formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
     sub = p.add_subparsers(dest="command", required=True, parser_class=_Parser,
                            metavar="COMMAND")
     for name in COMMANDS:
         importlib.import_module(name).register(sub)
     for leaf in _leaves(p):
+        # the epilog keeps its layout, so the description is wrapped here
         leaf.formatter_class = argparse.RawDescriptionHelpFormatter
-        leaf.epilog = "\n\n".join(filter(None, [leaf.epilog, EXIT_STATUS]))
+        if leaf.description and "\n" not in leaf.description:
+            leaf.description = textwrap.fill(leaf.description, 92)
+        own = leaf.prog in _OWN_OUTPUT
+        leaf.epilog = "\n\n".join(filter(None, [leaf.epilog, None if own else OUTPUT,
+                                                 EXIT_STATUS]))
         if "--quiet" not in leaf._option_string_actions:
             leaf.add_argument("-q", "--quiet", action="store_true",
                               help="no progress bar on standard error")
