@@ -89,25 +89,40 @@ class _Parser(argparse.ArgumentParser):
 
 
 class _Progress:
-    """The stages of one command as a tqdm bar on standard error (disabled: no output)."""
+    """The stages of one command as a tqdm bar on standard error (disabled: no output).
+
+    The bar names the running stage and its elapsed time, redrawn twice a second by a
+    background thread, so a long stage shows that the command is alive.
+    """
 
     def __init__(self, command: str, enabled: bool):
         self.command, self.enabled, self._bar = command, enabled, None
+        self._stop = None
 
     def stage(self, name: str) -> None:
         """Show that the command has reached stage ``name``."""
         if not self.enabled:
             return
         if self._bar is None:
+            import threading
+
             from tqdm import tqdm
 
             self._bar = tqdm(desc=self.command, file=sys.stderr, leave=False, unit="stage",
-                             bar_format="{desc}: {postfix} [{elapsed}]")
+                             bar_format="{desc} [{elapsed}]")
+            self._stop = threading.Event()
+            threading.Thread(target=self._tick, daemon=True).start()
         self._bar.update(1)
-        self._bar.set_postfix_str(name, refresh=True)  # shown while the stage runs
+        self._bar.set_description_str(f"{self.command}: {name}", refresh=True)  # while it runs
+
+    def _tick(self) -> None:
+        bar, stop = self._bar, self._stop
+        while not stop.wait(0.5):
+            bar.refresh()
 
     def close(self) -> None:
         if self._bar is not None:
+            self._stop.set()
             self._bar.close()
             self._bar = None
 

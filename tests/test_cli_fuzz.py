@@ -489,3 +489,41 @@ def test_real_process_negative_prior(obs2d):
     p = _proc("localize2d", obs2d, "--prior", "-1.2,3.4,0.1")
     assert p.returncode == 0 and p.stderr == ""
     assert math.isclose(json.loads(p.stdout)["model"]["x"], -1.2, abs_tol=0.15)
+
+
+@pytest.mark.skipif(sys.platform == "win32", reason="needs a pseudo-terminal")
+def test_progress_bar_in_a_real_terminal_and_quiet(tmp_path):
+    """A real process with stderr on a terminal (100 columns) shows the running stage and its
+    time; with --quiet only the JSON comes out."""
+    import fcntl
+    import pty
+    import struct
+    import termios
+
+    f = write(tmp_path, "p.csv", "".join(f"{i},{2 * i + i % 7}\n" for i in range(300)))
+    texts = []
+    for quiet in ([], ["--quiet"]):
+        pid, fd = pty.fork()
+        if pid == 0:  # the child: a terminal 100 columns wide, then the command
+            fcntl.ioctl(1, termios.TIOCSWINSZ, struct.pack("HHHH", 24, 100, 0, 0))
+            os.environ["PYTHONPATH"] = str(Path(__file__).resolve().parents[1])
+            os.execv(sys.executable, [sys.executable, "-m", "clap_unified", "fit", "line",
+                                      str(f), "--method", "ransac", *quiet])
+        out = b""
+        while True:
+            try:
+                chunk = os.read(fd, 4096)
+            except OSError:
+                break
+            if not chunk:
+                break
+            out += chunk
+        _, status = os.waitpid(pid, 0)
+        os.close(fd)
+        assert os.waitstatus_to_exitcode(status) == 0
+        texts.append(out.decode())
+    shown, quiet = texts
+    assert "\rfit line: reading points [00:00]" in shown
+    assert "fit line: fitting (ransac, 1000 hypotheses)" in shown
+    assert quiet.startswith("{") and "fit line" not in quiet
+    assert json.loads(quiet.strip())["success"] is True
