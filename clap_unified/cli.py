@@ -36,7 +36,7 @@ from .result import ConsensusResult
 from .spaces import LineSpace
 
 __all__ = ["COMMANDS", "EXIT_BAD_INPUT", "EXIT_FAILED", "EXIT_OK", "EXIT_STATUS", "OUTPUT",
-           "MAX_CLAP_HYPOTHESES", "MAX_HYPOTHESES", "MAX_WORK", "main"]
+           "MAX_CLAP_HYPOTHESES", "MAX_HYPOTHESES", "MAX_WORK", "build_parser", "main"]
 
 #: Modules that add commands (each has ``register(subparsers)``).
 COMMANDS = [
@@ -182,9 +182,19 @@ def _leaves(parser: argparse.ArgumentParser):
             yield from _leaves(child)
 
 
-def _parser() -> argparse.ArgumentParser:
+def build_parser() -> argparse.ArgumentParser:
+    """The ``clap-unified`` parser with every command (the CLI reference is built from it).
+
+    Every command's parser has a description, a help text for each option and an epilog
+    with the output and the exit statuses (:data:`OUTPUT`, :data:`EXIT_STATUS`).
+
+    Examples
+    --------
+    >>> build_parser().parse_args(["fit", "line", "p.csv", "--hypotheses", "50"]).hypotheses
+    50
+    """
     p = _Parser(prog="clap-unified",
-                description="Robust fitting by consensus: Hough, RANSAC and CLAP. Run "
+                description="Robust fitting by consensus: Hough, RANSAC and CLAP. Run\n"
                             "'clap-unified COMMAND --help' for a command's inputs and options.",
                 epilog=f"{OUTPUT}\n\n{EXIT_STATUS}",
                 formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -269,7 +279,7 @@ def main(argv=None) -> int:
         for options argparse refuses (2); nothing raises ``SystemExit``.
     """
     argv = sys.argv[1:] if argv is None else [str(a) for a in argv]
-    parser = _parser()
+    parser = build_parser()
     try:
         args = parser.parse_args(_join_negative_values(argv, _value_options(parser)))
     except SystemExit as exc:  # --help, --version, or a usage error (already printed)

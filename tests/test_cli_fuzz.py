@@ -28,7 +28,7 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from clap_unified.cli import _leaves, _parser, main
+from clap_unified.cli import _leaves, build_parser, main
 from clap_unified.maps.field import LANDMARK_TYPES
 
 FUZZ = settings(derandomize=True, database=None, deadline=None, max_examples=100,
@@ -449,7 +449,7 @@ def test_version_and_help_exit_0(capsys):
 
 def test_every_option_has_help_and_every_command_documents_output_and_exit_status():
     """The CLI reference is built from the parser: nothing may be left undocumented."""
-    leaves = list(_leaves(_parser()))
+    leaves = list(_leaves(build_parser()))
     assert len(leaves) == 6  # fit line, fit homography, localize2d, localize3d, stitch, reproduce
     for leaf in leaves:
         assert leaf.description, leaf.prog
