@@ -404,6 +404,17 @@ def test_a_named_pipe_is_refused_not_read(tmp_path):
         assert code == 2 and "not a regular file" in err
 
 
+def test_deeply_nested_json_and_long_lines_are_refused_quickly(tmp_path):
+    nested = write(tmp_path, "deep.json", "[" * 100_000 + "]" * 100_000)
+    code, _, err = run(["localize2d", nested])
+    assert code == 2 and "nested too deeply" in err
+    code, _, err = run(["localize3d", nested, "--map", nested])
+    assert code == 2 and "nested too deeply" in err
+    wide = write(tmp_path, "wide.csv", ",".join(["1"] * 200_000) + "\n")
+    code, _, err = run(["fit", "line", wide])
+    assert code == 2 and "line 1: expected 2 values, got 200000" in err
+
+
 def test_one_point_one_detection_and_empty_inputs(tmp_path):
     """Too few data is a failed estimate (1); no data at all is bad input (2)."""
     assert run(["fit", "line", write(tmp_path, "one.csv", "1,2\n")])[0] == 1
