@@ -49,6 +49,12 @@ def test_stitch_writes_panorama_and_json(synthetic_set, tmp_path, capsys, method
 
     pano = cv2.imread(str(out))
     assert pano.shape[1] > 640 and pano.shape[0] >= 480
+    import os
+
+    umask = os.umask(0)
+    os.umask(umask)
+    assert out.stat().st_mode & 0o777 == 0o666 & ~umask  # not the temporary file's 0600
+    assert sorted(p.name for p in tmp_path.iterdir()) == [out.name]  # no temporary file left
 
 
 @pytest.mark.parametrize("blend", ["none", "overwrite", "feather"])
