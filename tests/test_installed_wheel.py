@@ -24,6 +24,8 @@ import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
 
+pytestmark = pytest.mark.slow
+
 
 def _sh(*argv, **kwargs):
     proc = subprocess.run([str(a) for a in argv], capture_output=True, text=True, timeout=300,
