@@ -262,7 +262,7 @@ def _join_negative_values(argv: list[str], options: set[str]) -> list[str]:
 
 def _value_options(parser) -> set[str]:
     return {s for leaf in _leaves(parser) for a in leaf._actions if a.nargs != 0
-            for s in a.option_strings}
+            for s in a.option_strings if s.startswith("--")}
 
 
 def _one_line(exc: BaseException) -> str:
