@@ -1,6 +1,7 @@
 # clap_unified: two commands set everything up on a fresh machine.
 #   make book   -> .venv from environment.lock, package installed, executed book in book/_build/html
-#   make test   -> same set-up, then lint, unit tests + doctests, and pytest --nbval over every chapter
+#   make test   -> same set-up, then lint, the book built, unit tests + doctests (with a browser
+#                  test of the built book), and pytest --nbval over every chapter
 # Both are idempotent: the second run only redoes what changed.
 
 PYTHON ?= python3
@@ -19,7 +20,8 @@ export OPENBLAS_NUM_THREADS ?= 1
 
 all: book
 
-# Debian packages (libusb-1.0-0 for open3d). Installs only when root and missing.
+# Debian packages (libusb-1.0-0 for open3d; chromium and its driver for the browser test).
+# Installs only when root and missing.
 system:
 	@bash .ci/install-system-packages.sh
 
@@ -45,8 +47,11 @@ unit: $(STAMP)
 nbval: $(STAMP)
 	$(PY) -m pytest -q --nbval book/chapters
 
+# The book is built first (executed, warnings as errors) so that the browser test
+# (tests/test_book_browser.py) checks the pages a reader gets.
 test: $(STAMP)
 	$(VENV)/bin/ruff check clap_unified tests bench
+	$(VENV)/bin/jupyter-book build -W -n --keep-going book/
 	$(PY) -m pytest -q tests clap_unified
 	$(PY) -m pytest -q --nbval book/chapters
 

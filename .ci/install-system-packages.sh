@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
-# Debian packages the project needs at run time: libusb-1.0-0 (imported by open3d).
+# Debian packages the project needs: libusb-1.0-0 (imported by open3d), chromium and
+# chromium-driver (the browser test of the built book, tests/test_book_browser.py).
 # Installs only what is missing, and only when running as root; otherwise says what to install.
 set -euo pipefail
-needed=(libusb-1.0-0)
+needed=(libusb-1.0-0 chromium chromium-driver)
 missing=()
 for pkg in "${needed[@]}"; do
   dpkg-query -W -f='${Status}' "$pkg" 2>/dev/null | grep -q "install ok installed" || missing+=("$pkg")

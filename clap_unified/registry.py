@@ -55,7 +55,7 @@ class Strategy:
         space, ``threshold`` is a positive float, ``rng`` is what the caller
         gave (``None``, an int or a Generator; the Generator the hypotheses
         were drawn from when :func:`~clap_unified.fit` drew them): a strategy
-        that draws calls :func:`~clap_unified._validation.as_generator` on it, ``hypotheses`` a
+        that draws calls ``as_generator`` on it, ``hypotheses`` a
         :class:`~clap_unified.spaces.HypothesisSet` (``None`` when
         ``uses_hypotheses`` is False, or when ``draws_samples`` is True and
         the caller gave none).
@@ -150,7 +150,8 @@ def get_strategy(name: str, space=None) -> Strategy:
 
 
 def load_plugins() -> tuple[str, ...]:
-    """Import the modules other packages declare under :data:`ENTRY_POINTS`.
+    """Import the modules other packages declare in the entry-point group
+    ``clap_unified.strategies``.
 
     Each module registers its strategies when imported, so they are
     available to :func:`~clap_unified.fit`, :func:`~clap_unified.compare` and

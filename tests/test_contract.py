@@ -29,6 +29,12 @@ def _line():
     return LineSpace.for_data(pts), pts, np.zeros((30, 2)), 0.06, "points"
 
 
+def _line_transfer():
+    pts = line_scene(150, 0.4, rng=0).input.points
+    return (LineSpace.for_data(pts, metric="transfer"), pts, np.zeros((30, 2)), 0.06,
+            "points")
+
+
 def _homography():
     rng = np.random.default_rng(3)
     src = rng.uniform(0, 640, (150, 2))
@@ -88,8 +94,9 @@ def _observations():
     return ObservationSpace(2), data, None, 0.15, "observations"
 
 
-SPACES = {"line": _line, "homography": _homography, "pose2d": _pose2d, "pose3d": _pose3d,
-          "rigid3d": _rigid3d, "observations": _observations}
+SPACES = {"line": _line, "line_transfer": _line_transfer, "homography": _homography,
+          "pose2d": _pose2d, "pose3d": _pose3d, "rigid3d": _rigid3d,
+          "observations": _observations}
 #: Options a space needs that have no default there.
 OPTIONS = {"observations": {"randomized_hough": {"cell_size": 0.2}}}
 _CACHE: dict = {}

@@ -20,7 +20,7 @@ def cluster_centre(manifold, points, method: str = "medoid", weights=None) -> np
     Parameters
     ----------
     manifold : Manifold
-    points : ndarray of shape (N, *point_shape)
+    points : ndarray of shape (N,) + point_shape
     method : {"medoid", "karcher", "log_euclidean", "split", "median"}
         ``medoid``: the member minimising the sum of distances to the others;
         ``karcher``: intrinsic (Frechet) mean; ``log_euclidean``: mean of the

@@ -16,7 +16,7 @@ for every strategy:
   default is 1000); capped at ``n_hypotheses``;
 * ``rng``: ``RANSACOptions.random_seed`` is the first integer in
   ``[0, 2**31 - 1)`` drawn from ``as_generator(rng)``
-  (:func:`~clap_unified.external._peers.seed_of`), so an int ``rng`` gives the
+  (``seed_of``), so an int ``rng`` gives the
   same result every time (``None``: a fresh random seed). COLMAP runs on one
   thread (``num_threads=1``).
 
@@ -82,7 +82,7 @@ def run_colmap(space, data, hypotheses, *, threshold: float, prior=None, radius=
         Unused.
     rng : None, int or numpy.random.Generator
         Source of COLMAP's ``random_seed``
-        (:func:`~clap_unified.external._peers.seed_of`).
+        (``seed_of``).
     n_hypotheses : int
         ``max_num_trials``, the iteration cap.
     confidence : float

@@ -79,7 +79,7 @@ def run_poselib(space, data, hypotheses, *, threshold: float, prior=None, radius
     prior, radius
         Unused.
     rng : None, int or numpy.random.Generator
-        Source of PoseLib's ``seed`` (:func:`~clap_unified.external._peers.seed_of`).
+        Source of PoseLib's ``seed`` (``seed_of``).
     n_hypotheses : int
         ``max_iterations``, the iteration cap.
     confidence : float

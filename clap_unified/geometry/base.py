@@ -35,7 +35,7 @@ class Manifold(ABC):
     Subclasses set :attr:`dim`, :attr:`point_shape` and implement :meth:`log`
     and :meth:`exp`. The distance is the weighted norm of the logarithm,
     ``d(a, b) = || w * log(b, a) ||`` with per-coordinate weights
-    :attr:`tangent_weights`; whether that is a true metric depends on the space
+    ``tangent_weights``; whether that is a true metric depends on the space
     and is stated in :attr:`is_metric`.
     """
 
@@ -50,8 +50,8 @@ class Manifold(ABC):
     #: Up to this many points a symmetric pairwise matrix is one broadcast call
     #: (every pair twice, fewer Python-level calls); cheap distances raise it.
     small_pairwise: int = 64
-    #: Declared abilities beyond the protocol: :meth:`split_mean` and
-    #: :meth:`chordal_embedding` exist only where these are True.
+    #: Declared abilities beyond the protocol: ``split_mean`` and
+    #: ``chordal_embedding`` exist only where these are True.
     has_split_mean: bool = False
     has_chordal_embedding: bool = False
     #: Short name used in reprs and figures.
@@ -107,8 +107,8 @@ class Manifold(ABC):
 
         Parameters
         ----------
-        points_a : ndarray of shape (N, *point_shape)
-        points_b : ndarray of shape (M, *point_shape), optional
+        points_a : ndarray of shape (N,) + point_shape
+        points_b : ndarray of shape (M,) + point_shape, optional
             Defaults to ``points_a``.
 
         Returns
@@ -180,7 +180,7 @@ class Manifold(ABC):
 
         Parameters
         ----------
-        points : ndarray of shape (N, *point_shape)
+        points : ndarray of shape (N,) + point_shape
         weights : ndarray of shape (N,), optional
             Non-negative; normalised to sum to one.
         initial : ndarray of shape point_shape, optional

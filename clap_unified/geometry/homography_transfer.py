@@ -91,7 +91,7 @@ class HomographyTransfer(Homography):
 
     is_metric = True
     has_chordal_embedding = True
-    #: The Euclidean distance of :meth:`chordal_embedding` equals :meth:`distance`.
+    #: The Euclidean distance of ``chordal_embedding`` equals ``distance``.
     embedding_is_distance = True
     small_pairwise = 4096
     name = "homographies (anchor transfer)"

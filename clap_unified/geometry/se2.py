@@ -78,7 +78,7 @@ class SE2(MatrixLieGroup):
 
         Returns
         -------
-        ndarray of shape (*S, 3, 3)
+        ndarray of shape S + (3, 3)
 
         Examples
         --------

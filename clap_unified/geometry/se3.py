@@ -93,7 +93,7 @@ class SE3(MatrixLieGroup):
         return f"SE3(angle_weight={self.angle_weight:g}, metric={self.metric!r})"
 
     def distance(self, point_a, point_b) -> np.ndarray:
-        """Distance chosen by :attr:`metric`, broadcast over leading axes.
+        """Distance chosen by ``metric``, broadcast over leading axes.
 
         Examples
         --------

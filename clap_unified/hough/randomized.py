@@ -28,7 +28,7 @@ def bin_hypotheses(manifold, models, cell_size, base_point=None, *, coordinates=
     Parameters
     ----------
     manifold : Manifold
-    models : ndarray of shape (H, *point_shape)
+    models : ndarray of shape (H,) + point_shape
     cell_size : float or array_like of shape (d,)
         Cell edge per coordinate.
     base_point : ndarray, optional

@@ -2,9 +2,9 @@
 
 Bad input (a missing or unreadable image or CSV, a folder, an image over
 :data:`MAX_IMAGE_PIXELS`, an unwritable output) raises ``ValueError``: the command prints
-one line and exits with status 2. A failed estimate (fewer than :data:`MIN_MATCHES` matches,
-no consensus, fewer than :data:`MIN_MATCHES` matches agreeing with it, a homography that
-gives no plausible panorama) is a result with ``success: false`` and a ``reason``: status 1.
+one line and exits with status 2. A failed estimate (fewer than 8 matches, no consensus,
+fewer than 8 matches agreeing with it, a homography that gives no plausible panorama) is a
+result with ``success: false`` and a ``reason``: status 1.
 Either way no panorama file is written: it is written to a temporary file next to the
 target and renamed only on success.
 """

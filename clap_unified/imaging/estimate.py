@@ -135,7 +135,7 @@ def estimate_homography(matches, method: str = "clap", *, rng=None, quality=None
         :data:`MIN_MATCHES`.
     method : str
         A protocol of :data:`PROTOCOLS` or a registered strategy that applies
-        to homographies (:func:`method_names`). ``"clap"`` is the library's
+        to homographies (``method_names``). ``"clap"`` is the library's
         default CLAP, ``"clap_paper"`` the paper's protocol.
     rng : None, int or numpy.random.Generator
     quality : ndarray of shape (N,), optional

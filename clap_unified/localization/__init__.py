@@ -2,14 +2,14 @@
 
 2D (RoboCup Humanoid fields): typed landmark maps (:mod:`clap_unified.maps`), a camera
 and detection simulator (:mod:`.observations`), one-frame localization by
-CLAP, RANSAC or randomized Hough on the same candidates (:mod:`.localize2d`), a walking
+CLAP, RANSAC or randomized Hough on the same candidates (``localize2d``), a walking
 trajectory (:mod:`.trajectory`), an SE(2) EKF (:mod:`.ekf`), Monte Carlo
 localization (:mod:`.mcl`), the tracking comparison (:mod:`.tracking`), and
 detections merged over a window of frames by clustering in input space (:mod:`.merging`).
 
 3D (SE(3)): typed landmark maps and the MoCap lab (:mod:`.map3d`), a MoCap-like
 trajectory and detection simulator (:mod:`.scene3d`), one-frame 6-DoF localization by
-CLAP, RANSAC or Open3D (:mod:`.localize3d`) and the Open3D baselines, point clouds
+CLAP, RANSAC or Open3D (``localize3d``) and the Open3D baselines, point clouds
 included (:mod:`.open3d_baselines`).
 
 Both one-frame localizers are thin: they turn their input into the data of a

@@ -69,7 +69,7 @@ def merge_detections(frames, odometry, *, threshold: float = 0.3, bandwidth: flo
     odometry : ndarray of shape (K - 1, 3)
         Odometry increments ``(dx, dy, dtheta)`` from frame ``k`` to ``k + 1``
         in the robot frame of ``k`` (a slice of
-        :attr:`~clap_unified.localization.trajectory.OdometryInput.odometry`).
+        ``OdometryInput.odometry``).
     threshold : float
         Metres: a detection within this distance of a cluster centre (same
         type) belongs to it.

@@ -92,7 +92,7 @@ class ObservationInput:
     data : ndarray of shape (N, 3)
         Rows ``(type_id, x, y)`` in the robot frame (``type_id`` indexes
         :data:`~clap_unified.maps.field.LANDMARK_TYPES`): the input of
-        :class:`~clap_unified.spaces.Landmark2DSpace` and of ``localize2d``.
+        :class:`~clap_unified.spaces.landmarks2d.Landmark2DSpace` and of ``localize2d``.
         Read-only.
     """
 

@@ -2,7 +2,7 @@
 
 Field frame: origin at the centre spot, x towards the opponent goal, y to the
 left, metres. The landmark files ``clap_unified/maps/fields/<name>.json`` (package data,
-read with :mod:`importlib.resources`, so an installed package finds them) are generated
+read with ``importlib.resources``, so an installed package finds them) are generated
 from the rule dimensions by :func:`field_landmarks` and checked against it by the tests.
 """
 
@@ -34,7 +34,7 @@ FIELD_DIMENSIONS = {
 
 
 def field_file(name: str):
-    """The packaged landmark file of field ``name`` (a :mod:`importlib.resources` traversable).
+    """The packaged landmark file of field ``name`` (a ``importlib.resources`` traversable).
 
     Examples
     --------

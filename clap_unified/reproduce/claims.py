@@ -17,6 +17,7 @@ from dataclasses import dataclass
 __all__ = ["CLAIMS", "MARGIN", "VERDICTS", "Claim", "chapter_claims", "evaluate_claims",
            "rates_differ", "wilson_lower"]
 
+#: The four verdicts a claim can get, from best to no data.
 VERDICTS = ("reproduced", "partly reproduced", "not reproduced", "data unavailable")
 
 #: Two success rates differ only when they differ by more than this (and by 2 standard errors).
@@ -340,6 +341,7 @@ def _judge_symmetry(outputs):
                      f"mirror, with equal support"), s
 
 
+#: Every claim of the paper, in the order of the paper, each with its verdict rule.
 CLAIMS = [
     Claim("3d_outliers",
           "CLAP significantly outperforms RANSAC, maintaining robustness even when more than "

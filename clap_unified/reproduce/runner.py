@@ -3,7 +3,7 @@
 Every file is written atomically (a temporary file in the same folder, then
 a rename), so an interrupted run leaves no half-written file; a finished
 experiment is cached in ``DIR/experiments/<name>.json`` and reused by the
-next run with the same parameters and the same code (:func:`code_fingerprint`)
+next run with the same parameters and the same code (``code_fingerprint``)
 unless ``force`` is given.
 
 Layout of ``DIR``::

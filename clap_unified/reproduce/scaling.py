@@ -1,5 +1,9 @@
 """How CLAP's time and peak memory grow with the number of hypotheses and of data.
 
+:func:`compiled_speedup` measures what the compiled homography kernels
+(:mod:`~clap_unified.spaces.homography_compiled`) save against the numpy
+path they replace.
+
 :func:`scaling_runs` fits seeded synthetic problems of growing size and
 records, per method and size, the wall time (median of ``repeat`` runs) and
 the peak memory traced by :mod:`tracemalloc` (numpy's allocations included)
@@ -13,11 +17,11 @@ Two kinds of problem:
   outliers (noise 0.5 px), fitted by :func:`~clap_unified.imaging.estimate_homography`
   with the library's default ``"clap"`` (k-d tree density: ``O(H log H)``
   time, ``O(H)`` memory) and the paper's ``"clap_paper"`` (an ``H x H``
-  distance matrix up to :data:`~clap_unified.clap.clap.DENSE_LIMIT`
+  distance matrix up to ``DENSE_LIMIT`` of :mod:`clap_unified.clap.clap`
   hypotheses, blocks beyond);
 * ``"line"``: points on a line, half of them outliers, fitted by
-  :func:`~clap_unified.fit_line` with ``"clap"`` (the line manifold has no
-  exact Euclidean embedding: the matrix path).
+  :func:`~clap_unified.fit_line` with ``"clap"`` (lines compared by the
+  anchor-transfer metric: k-d tree density, as for homographies).
 """
 
 from __future__ import annotations
@@ -29,7 +33,7 @@ import numpy as np
 
 from .._validation import check_choice, check_int
 
-__all__ = ["loglog_slope", "scaling_problem", "scaling_runs"]
+__all__ = ["compiled_speedup", "loglog_slope", "scaling_problem", "scaling_runs"]
 
 #: Methods measured per kind of problem.
 METHODS = {"homography": ("clap", "clap_paper"), "line": ("clap",)}
@@ -85,7 +89,7 @@ def scaling_runs(kind: str, sizes, *, vary: str = "hypotheses", methods=None,
         ``FIXED["hypotheses"]``).
     vary : {"hypotheses", "data"}
     methods : sequence of str, optional
-        Default :data:`METHODS` of ``kind``.
+        Default ``METHODS[kind]``.
     repeat : int
         Timed runs per size; the time is their median, the memory the peak of
         a separate traced run (tracing slows numpy down).
@@ -149,3 +153,83 @@ def loglog_slope(sizes, values) -> float:
     if len(x) < 2 or len(x) != len(y) or not (np.all(np.isfinite(x)) and np.all(np.isfinite(y))):
         raise ValueError("sizes, values: expected two or more positive pairs")
     return float(np.polyfit(x, y, 1)[0])
+
+
+def compiled_speedup(matches, *, repeat: int = 5, method: str = "clap") -> dict:
+    """Time of the polish and of a whole estimate, compiled kernels against numpy.
+
+    For each matrix of matches, interleaved: the polish
+    (:func:`~clap_unified.spaces.homography_polish.polish_checked`, threshold
+    6 px) from OpenCV's unrefined RANSAC estimate with ``compiled=True`` and
+    ``False``, and ``estimate_homography(m, method, rng=0)`` with the kernels
+    on and switched off (``homography_compiled.AVAILABLE = False``).
+
+    Parameters
+    ----------
+    matches : iterable of ndarray of shape (N, 4)
+        Estimator input only.
+    repeat : int
+        Timed runs of each; the median counts.
+    method : str
+        The estimate timed end to end.
+
+    Returns
+    -------
+    dict
+        ``polish_numpy, polish_compiled, estimate_numpy, estimate_compiled``:
+        median seconds over the matrices; ``polish_speedup`` and
+        ``estimate_speedup``: medians of the per-matrix ratios; ``same``:
+        True when both paths gave the same inliers everywhere.
+
+    Examples
+    --------
+    >>> from clap_unified.imaging.datasets import synthetic_pair
+    >>> out = compiled_speedup([synthetic_pair(0.5, rng=0).input.matches], repeat=1)
+    >>> out["same"], out["polish_speedup"] > 0
+    (True, True)
+    """
+    from ..imaging.estimate import estimate_homography
+    from ..spaces import homography_compiled
+    from ..spaces.homography_polish import polish_checked
+
+    repeat = check_int(repeat, "repeat", minimum=1)
+    if not homography_compiled.AVAILABLE:
+        raise RuntimeError("compiled_speedup: numba is not importable, nothing to compare")
+
+    def timed(fn):
+        times, out = [], None
+        for _ in range(repeat):
+            t0 = time.perf_counter()
+            out = fn()
+            times.append(time.perf_counter() - t0)
+        return float(np.median(times)), out
+
+    rows, same = [], True
+    for m in matches:
+        m = np.ascontiguousarray(m, dtype=float)
+        start = estimate_homography(m, "cv2_ransac", rng=0, refine=False).model
+        if start is None:
+            continue
+        polish_checked(start, m, 6.0, compiled=True)  # compiles on the first call
+        t_pc, (_, inl_c) = timed(lambda s=start, m=m: polish_checked(s, m, 6.0, compiled=True))
+        t_pn, (_, inl_n) = timed(lambda s=start, m=m: polish_checked(s, m, 6.0, compiled=False))
+        est = {}
+        for compiled in (True, False):
+            homography_compiled.AVAILABLE = compiled
+            try:
+                est[compiled] = timed(lambda m=m: estimate_homography(m, method, rng=0))
+            finally:
+                homography_compiled.AVAILABLE = True
+        same &= bool(np.array_equal(inl_c, inl_n)
+                     and np.array_equal(est[True][1].inliers, est[False][1].inliers))
+        rows.append((t_pn, t_pc, est[False][0], est[True][0]))
+    if not rows:
+        raise ValueError("matches: no matrix gave a starting estimate")
+    r = np.array(rows)
+    return {"polish_numpy": float(np.median(r[:, 0])),
+            "polish_compiled": float(np.median(r[:, 1])),
+            "estimate_numpy": float(np.median(r[:, 2])),
+            "estimate_compiled": float(np.median(r[:, 3])),
+            "polish_speedup": float(np.median(r[:, 0] / r[:, 1])),
+            "estimate_speedup": float(np.median(r[:, 2] / r[:, 3])),
+            "same": same, "pairs": len(rows)}

@@ -68,7 +68,7 @@ class HypothesisSet:
 
     Attributes
     ----------
-    models : ndarray of shape (H, *model_shape)
+    models : ndarray of shape (H,) + model_shape
         The candidate models, one per row.
     samples : ndarray of shape (H, m)
         Indices of the data each model was solved from (``m`` = minimal sample size).
@@ -118,7 +118,8 @@ class HypothesisSpace(ABC):
     model_shape: tuple
     #: Short name used in results and the command line.
     name: str = "space"
-    #: What this space can do beyond the protocol (see :class:`Capabilities`).
+    #: What this space can do beyond the protocol (see
+    #: :class:`~clap_unified.spaces.base.Capabilities`).
     #: The manifold's flags (``split_mean``, ``chordal_embedding``) are added
     #: by :attr:`capabilities`.
     declared: Capabilities = Capabilities()
@@ -155,7 +156,7 @@ class HypothesisSpace(ABC):
 
         Returns
         -------
-        models : ndarray of shape (K, *model_shape)
+        models : ndarray of shape (K,) + model_shape
             All models found; a sample can give 0..k of them (0 = degenerate).
         owner : ndarray of int, shape (K,)
             ``owner[j]`` is the row of ``samples`` model ``j`` came from.

@@ -19,6 +19,7 @@ from __future__ import annotations
 import numpy as np
 
 from .._validation import check_array, check_int, check_points, check_positive
+from . import homography_compiled
 from .homography import dlt, symmetric_transfer_error, transfer
 
 __all__ = ["polish_checked", "polish_homography"]
@@ -78,11 +79,27 @@ def polish_homography(H, matches, *, threshold: float = 3.0, irls_iterations: in
                                                     minimum=0), lm=lm)
 
 
-def polish_checked(H, m, t: float, *, irls_iterations: int = 5, lm: bool = False):
-    """:func:`polish_homography` of checked inputs (``HomographySpace.refine``'s polish)."""
-    from scipy.optimize import least_squares
+def polish_checked(H, m, t: float, *, irls_iterations: int = 5, lm: bool = False,
+                   compiled: bool | None = None):
+    """:func:`polish_homography` of checked inputs (``HomographySpace.refine``'s polish).
 
+    ``compiled``: run the reweighted DLT in the numba kernel of
+    :mod:`~clap_unified.spaces.homography_compiled` (default: when numba is
+    available) or in numpy (``False``, the reference it is tested against).
+    """
     H = H / H[2, 2]
+    if compiled is None:
+        compiled = homography_compiled.AVAILABLE
+    if compiled:
+        H, _, inl = homography_compiled.irls(H, np.ascontiguousarray(m, dtype=float), float(t),
+                                             int(irls_iterations))
+    else:
+        H, inl = _irls(H, m, t, irls_iterations)
+    return _lm(H, m, t, inl) if lm else (H, inl)
+
+
+def _irls(H, m, t: float, irls_iterations: int):
+    """The reweighted DLT rounds of the polish, in numpy (the reference)."""
     r = symmetric_transfer_error(H, m)
     inl = r < t
     n_inl = np.count_nonzero(inl)
@@ -108,7 +125,14 @@ def polish_checked(H, m, t: float, *, irls_iterations: int = 5, lm: bool = False
         H, r, inl, n_inl = cand, r_new, inl_new, n_new
         if done:
             break
-    if lm and inl.sum() >= 5:
+    return H, inl
+
+
+def _lm(H, m, t: float, inl):
+    """Levenberg-Marquardt on the symmetric transfer error of the inliers, when it lowers it."""
+    from scipy.optimize import least_squares
+
+    if inl.sum() >= 5:
         x = m[inl]
         best = _cost(H, x)
         with np.errstate(all="ignore"):

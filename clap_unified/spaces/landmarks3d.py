@@ -11,7 +11,7 @@ triplets: first the map pairs compatible with each observed pair ``(i, j)``,
 then the third landmarks compatible with both ``(i, k)`` and ``(j, k)``.
 
 Data are observations ``(N, 4)`` rows ``(type_id, x, y, z)`` in the body
-frame (metres), ``type_id`` indexing :attr:`Landmark3DSpace.type_names`.
+frame (metres), ``type_id`` indexing ``Landmark3DSpace.type_names``.
 Models are poses ``T_world_body`` as 4 x 4 matrices: a body point ``p`` is at
 ``R p + t`` in the world. Residual of an observation: its distance, once moved
 to the world, to the nearest map landmark of its type. When the association
@@ -157,7 +157,7 @@ class Landmark3DSpace(HypothesisSpace):
     def near_prior(self, prior, models, radius) -> np.ndarray:
         """Models within ``radius`` of ``prior``: a distance or ``(max_translation, max_rotation)``.
 
-        See :func:`~clap_unified.spaces.rigid3d.near_pose`.
+        See ``near_pose`` in :mod:`clap_unified.spaces.rigid3d`.
         """
         return near_pose(self.manifold, prior, models, radius)
 
@@ -255,7 +255,7 @@ class Landmark3DSpace(HypothesisSpace):
         -------
         distance : ndarray of shape (H, N)
         index : ndarray of int, shape (H, N)
-            Index into :attr:`positions`.
+            Index into ``positions``.
         """
         data = np.asarray(data, dtype=float)
         world = self._world(models, data)

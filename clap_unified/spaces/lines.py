@@ -4,7 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from .._validation import check_points
+from .._validation import check_choice, check_points
+from ..geometry.line_transfer import LineTransfer
 from ..geometry.lines import Line2D
 from .base import HypothesisSpace
 
@@ -43,16 +44,47 @@ class LineSpace(HypothesisSpace):
         self._manifold = Line2D(length_scale=length_scale, origin=origin)
 
     @classmethod
-    def for_data(cls, points) -> LineSpace:
-        """A space whose distance is scaled to ``points``: origin at their centroid,
-        ``length_scale`` their RMS radius."""
+    def for_data(cls, points, *, metric: str = "chart") -> LineSpace:
+        """A space whose distance is scaled to ``points``.
+
+        Parameters
+        ----------
+        points : array_like of shape (N, 2)
+        metric : {"chart", "transfer"}
+            ``"chart"`` (default): the :class:`~clap_unified.geometry.Line2D`
+            distance with the origin at the centroid of ``points`` and
+            ``length_scale`` their RMS radius. ``"transfer"``: lines compared
+            by where they pass five anchors of the data region, in data units
+            (:class:`~clap_unified.geometry.line_transfer.LineTransfer` with
+            :func:`~clap_unified.geometry.homography_transfer.region_anchors`):
+            a metric with an exact Euclidean embedding, so CLAP's neighbour
+            queries need no ``H x H`` distance matrix.
+
+        Examples
+        --------
+        >>> pts = np.c_[np.arange(10.0), np.arange(10.0) % 3]
+        >>> LineSpace.for_data(pts, metric="transfer").manifold
+        LineTransfer(anchors=5)
+        """
+        check_choice(metric, "metric", {"chart", "transfer"})
         pts = check_points(points, "points", dim=2, min_count=2)
+        if metric == "transfer":
+            from ..geometry.homography_transfer import region_anchors
+
+            anchors = region_anchors(pts)
+            if len(np.unique(anchors, axis=0)) < 2:  # all points at one place: no region
+                anchors = anchors[4] + np.array([[-1.0, 0], [1, 0], [0, -1], [0, 1], [0, 0]])
+            space = cls.__new__(cls)
+            space._manifold = LineTransfer(anchors)
+            return space
         centre = pts.mean(axis=0)
         radius = float(np.sqrt(np.mean(np.sum((pts - centre) ** 2, axis=1))))
         return cls(length_scale=max(radius, 1e-12), origin=centre)
 
     def __repr__(self) -> str:
         m = self._manifold
+        if isinstance(m, LineTransfer):
+            return f"LineSpace({m!r})"
         return f"LineSpace(length_scale={m.length_scale:g}, origin={m.origin.tolist()})"
 
     @property

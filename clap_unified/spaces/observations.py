@@ -52,7 +52,7 @@ class ObservationSpace(HypothesisSpace):
     Notes
     -----
     ``min_samples`` is 1: every observation is a hypothesis, so
-    :meth:`hypotheses` enumerates them all (in order: hypothesis ``i`` is
+    ``hypotheses`` enumerates them all (in order: hypothesis ``i`` is
     observation ``i``). The residual of a datum to a model is its Euclidean
     distance (infinite across types); the refit is the mean of the inliers.
     """

@@ -229,7 +229,7 @@ class Correspondence3DSpace(HypothesisSpace):
         return generate_hypotheses(self, data, n, rng=rng, **sampling)
 
     def near_prior(self, prior, models, radius) -> np.ndarray:
-        """Models within ``radius`` of ``prior`` (a distance or a pair, see :func:`near_pose`)."""
+        """Models within ``radius`` of ``prior`` (a distance or a pair, see ``near_pose``)."""
         return near_pose(self.manifold, prior, models, radius)
 
     def correspondences(self, data):

@@ -47,7 +47,7 @@ class LineTruth:
     ----------
     label : ndarray of int, shape (N,)
         Index of the line each input point was drawn from, ``-1`` for an
-        outlier (read-only, aligned with :attr:`LineInput.points`).
+        outlier (read-only, aligned with ``LineInput.points``).
     lines : ndarray of shape (L, 2)
         The true lines ``(theta, rho)``, canonical (``theta`` in ``[0, pi)``).
     """
@@ -118,7 +118,7 @@ def line_scene(n: int = 200, outlier_ratio: float = 0.5, *, lines=(DEFAULT_LINE,
         Fraction of the points that are outliers (rounded to a whole number).
     lines : array_like of shape (L, 2)
         True lines ``(theta, rho)``: ``x cos(theta) + y sin(theta) = rho``.
-        The default is :data:`DEFAULT_LINE`, ``y = 0.3 x + 1``.
+        The default is ``DEFAULT_LINE``, ``y = 0.3 x + 1``.
     share : array_like of shape (L,), optional
         How the inliers are split between the lines (default: equally).
     noise : float

@@ -6,7 +6,7 @@ see and whose ``truth`` is evaluation data (:mod:`clap_unified.datatypes`).
 * :mod:`.sources`: mirror / cache / public source lookup with sha256 checks;
 * :mod:`.homography_benchmarks`: homogr and EVD pairs with ground truth;
 * :mod:`.vpg`: the VPG stitching dataset layout;
-* :mod:`.synthetic_pairs`: synthetic hard homography pairs (few inliers, a
+* ``synthetic_pairs``: synthetic hard homography pairs (few inliers, a
   coherent decoy motion, uniform outliers) with exact ground truth;
 * :mod:`.synthetic_vpg`: a VPG-layout set from scikit-image photographs and
   textures, pure-rotation cameras, exact ground truth;

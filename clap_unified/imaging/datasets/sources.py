@@ -1,7 +1,7 @@
 """Finding dataset files: local mirror, download cache, public source; sha256 checked.
 
 A dataset is described by a manifest ``manifests/<dataset>.json``, package data
-next to this module (read with :mod:`importlib.resources`, so an installed
+next to this module (read with ``importlib.resources``, so an installed
 package has it): ``base_url`` (public source), ``files`` (relative path ->
 sha256) and optionally ``remote`` (relative path -> path under ``base_url``
 where the public source lays files out differently; with ``"remote_complete":
@@ -34,7 +34,7 @@ from pathlib import Path
 __all__ = ["MANIFESTS", "cache_dir", "fetch", "load_manifest", "manifest_file", "mirror_dir",
            "sha256"]
 
-#: The packaged manifests (``manifests/<dataset>.json``), an :mod:`importlib.resources`
+#: The packaged manifests (``manifests/<dataset>.json``), an ``importlib.resources``
 #: traversable.
 MANIFESTS = resources.files(__package__).joinpath("manifests")
 
@@ -57,7 +57,7 @@ def sha256(path) -> str:
 
 
 def manifest_file(dataset: str):
-    """The packaged manifest of ``dataset`` (an :mod:`importlib.resources` traversable).
+    """The packaged manifest of ``dataset`` (an ``importlib.resources`` traversable).
 
     Examples
     --------

@@ -248,9 +248,9 @@ def synthetic_pair(inlier_ratio: float, *, decoy_ratio: float = 0.0, n_matches: 
 
 def synthetic_pairs(seed: int = 0, *, n_matches: int = 500, noise: float = 1.0
                     ) -> list[HomographyPair]:
-    """The fixed hard set: every inlier ratio of :data:`INLIER_RATIOS` with every decoy share.
+    """The fixed hard set: every inlier ratio of ``INLIER_RATIOS`` with every decoy share.
 
-    A pair with inlier ratio ``r`` and decoy share ``f`` (:data:`DECOY_SHARES`) has
+    A pair with inlier ratio ``r`` and decoy share ``f`` (``DECOY_SHARES``) has
     ``f * r`` of its matches on the decoy motion.
 
     Parameters
