@@ -337,7 +337,7 @@ def test_other_negative_values_name_their_option(tmp_path):
 
 @pytest.mark.parametrize("argv", [
     ["fit", "line", "P", "--hypotheses", "10000000"],
-    ["fit", "line", "P", "--hypotheses", "100000"],  # CLAP: H x H
+    ["fit", "line", "P", "--hypotheses", "1000001"],
     ["fit", "line", "P", "--hypotheses", "1000000", "--method", "ransac"],  # H x N
     ["reproduce", "--jobs", "100000"],
 ])
