@@ -43,7 +43,8 @@ def test_same_seed_same_output(tmp_path, capsys):
 
 @pytest.mark.parametrize("content, needle", [
     (None, "no such file"),
-    ("x,y\n1,2\n", "at least 2 rows"),
+    ("", "no data"),
+    ("x,y\n", "no data"),
     ("1,2\n3,abc\n", "line 2: non-numeric"),
     ("1,2\nnan,3\n", "non-finite"),
     ("1,2,3\n4,5,6\n", "expected 2 values"),
@@ -55,6 +56,15 @@ def test_bad_files_exit_2_with_one_line(tmp_path, capsys, content, needle):
     code, out, err = run(["fit", "line", str(f)], capsys)
     assert code == 2 and out == ""
     assert err.count("\n") == 1 and needle in err
+
+
+def test_one_point_is_a_failed_estimate_not_bad_input(tmp_path, capsys):
+    f = tmp_path / "one.csv"
+    f.write_text("x,y\n1,2\n")
+    code, out, err = run(["fit", "line", str(f)], capsys)
+    d = json.loads(out)
+    assert code == 1 and err == "" and d["success"] is False and d["model"] is None
+    assert d["reason"] == "need at least 2 points, got 1" and d["data"] == 1
 
 
 def test_degenerate_points_report_failure(tmp_path, capsys):

@@ -49,6 +49,12 @@ def test_stitch_writes_panorama_and_json(synthetic_set, tmp_path, capsys, method
 
     pano = cv2.imread(str(out))
     assert pano.shape[1] > 640 and pano.shape[0] >= 480
+    import os
+
+    umask = os.umask(0)
+    os.umask(umask)
+    assert out.stat().st_mode & 0o777 == 0o666 & ~umask  # not the temporary file's 0600
+    assert sorted(p.name for p in tmp_path.iterdir()) == [out.name]  # no temporary file left
 
 
 @pytest.mark.parametrize("blend", ["none", "overwrite", "feather"])
@@ -65,23 +71,35 @@ def test_stitch_bad_input_exits_2_and_writes_nothing(synthetic_set, tmp_path, ca
     left = str(synthetic_set.input.images[1])
     code, text, err = run(["stitch", left, str(tmp_path / "missing.jpg"), "-o", str(out)],
                           capsys)
-    assert code == 2 and text == "" and "no such image file" in err and len(err.splitlines()) == 1
+    assert code == 2 and text == "" and "RIGHT" in err and "no such image file" in err
+    assert len(err.splitlines()) == 1
     junk = tmp_path / "junk.jpg"
     junk.write_bytes(b"not an image")
     code, _, err = run(["stitch", left, str(junk), "-o", str(out)], capsys)
     assert code == 2 and "not a readable image" in err
-    import cv2
-
-    blank = tmp_path / "blank.png"
-    cv2.imwrite(str(blank), np.full((480, 640, 3), 128, np.uint8))
-    code, _, err = run(["stitch", left, str(blank), "-o", str(out)], capsys)
-    assert code == 2 and "too few matches" in err
+    code, _, err = run(["stitch", str(tmp_path), left, "-o", str(out)], capsys)
+    assert code == 2 and "LEFT" in err and "is a folder" in err
     code, _, err = run(["stitch", left, left, "-o", str(tmp_path / "pano.xyz")], capsys)
-    assert code == 2 and "extension" in err
+    assert code == 2 and "--output" in err and "extension" in err
     code, _, err = run(["stitch", left, left, "-o", str(tmp_path / "no" / "pano.png")], capsys)
     assert code == 2 and "does not exist" in err
-    assert not out.exists() and sorted(p.name for p in tmp_path.iterdir()) == ["blank.png",
-                                                                             "junk.jpg"]
+    code, _, err = run(["stitch", left, left, "-o", str(tmp_path)], capsys)
+    assert code == 2 and "--output" in err and "is a folder" in err
+    assert not out.exists() and sorted(p.name for p in tmp_path.iterdir()) == ["junk.jpg"]
+
+
+def test_stitch_too_few_matches_is_a_failed_estimate(synthetic_set, tmp_path, capsys):
+    import cv2
+
+    out = tmp_path / "pano.png"
+    blank = tmp_path / "blank.png"
+    cv2.imwrite(str(blank), np.full((480, 640, 3), 128, np.uint8))
+    left = str(synthetic_set.input.images[1])
+    code, text, err = run(["stitch", left, str(blank), "-o", str(out)], capsys)
+    d = json.loads(text)
+    assert code == 1 and err == "" and d["success"] is False and "too few matches" in d["reason"]
+    assert d["output"] is None and d["matches"] < 8 and not out.exists()
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["blank.png"]
 
 
 def test_stitch_unrelated_images_fail_cleanly(tmp_path, capsys):
@@ -94,8 +112,10 @@ def test_stitch_unrelated_images_fail_cleanly(tmp_path, capsys):
     cv2.imwrite(str(b), np.ascontiguousarray(data.coffee()[..., ::-1]))
     out = tmp_path / "pano.png"
     code, text, err = run(["stitch", str(a), str(b), "-o", str(out)], capsys)
-    assert code == 2 and text == "" and not out.exists()
-    assert "too few matches" in err or "estimate failed" in err or "plausible" in err
+    d = json.loads(text)
+    assert code == 1 and err == "" and not out.exists() and d["success"] is False
+    assert d["reason"] and d["output"] is None
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["a.png", "b.png"]
 
 
 def _matches_csv(tmp_path, sift_pair, outliers=0.4, n=None, seed=0):
@@ -136,8 +156,10 @@ def test_fit_homography_is_deterministic(sift_pair, tmp_path, capsys):
 
 def test_fit_homography_bad_input_exits_2(sift_pair, tmp_path, capsys):
     f, _ = _matches_csv(tmp_path, sift_pair, outliers=0.0, n=5)
-    code, text, err = run(["fit", "homography", str(f)], capsys)
-    assert code == 2 and text == "" and "too few matches" in err
+    code, text, err = run(["fit", "homography", str(f)], capsys)  # too few: a failed estimate
+    d = json.loads(text)
+    assert code == 1 and err == "" and d["success"] is False and d["model"] is None
+    assert "too few matches" in d["reason"] and d["matches"] == 5
     g = tmp_path / "three.csv"
     g.write_text("1,2,3\n4,5,6\n")
     code, _, err = run(["fit", "homography", str(g)], capsys)
@@ -146,9 +168,14 @@ def test_fit_homography_bad_input_exits_2(sift_pair, tmp_path, capsys):
     assert code == 2 and "no such file" in err
 
 
-def test_fit_homography_failed_estimate_exits_2(tmp_path, capsys):
+@pytest.mark.parametrize("method", ["clap", "ransac"])
+def test_fit_homography_failed_estimate_exits_1_like_fit_line(tmp_path, capsys, method):
+    """One convention: a failed estimate is JSON with success false and exit 1, for every
+    command (``fit line`` on degenerate points does the same)."""
     rng = np.random.default_rng(0)
     f = tmp_path / "random.csv"
     np.savetxt(f, rng.uniform(0, 640, (60, 4)), delimiter=",")
-    code, text, err = run(["fit", "homography", str(f), "--method", "clap"], capsys)
-    assert code == 2 and text == "" and "estimate failed" in err
+    code, text, err = run(["fit", "homography", str(f), "--method", method], capsys)
+    d = json.loads(text)
+    assert code == 1 and err == "" and d["success"] is False and d["reason"]
+    assert d["matches"] == 60 and d["method"] == method

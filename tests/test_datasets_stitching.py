@@ -8,14 +8,15 @@ import pytest
 from split_checks import assert_split
 
 from clap_unified.imaging.datasets import load_stitching_set, stitching_set_names
-from clap_unified.imaging.datasets.sources import DATA_DIR, mirror_dir
+from clap_unified.imaging.datasets.sources import manifest_file, mirror_dir
 
-pytestmark = pytest.mark.skipif(not mirror_dir("stitching_sets").is_dir(),
+_MIRROR = mirror_dir("stitching_sets")
+pytestmark = pytest.mark.skipif(_MIRROR is None or not _MIRROR.is_dir(),
                                 reason="stitching_sets mirror not present")
 
 
 def test_every_set_is_its_images_in_order_and_has_no_truth():
-    manifest = json.loads((DATA_DIR / "stitching_sets" / "manifest.json").read_text())
+    manifest = json.loads(manifest_file("stitching_sets").read_text())
     assert stitching_set_names() == sorted(manifest["sets"])
     assert len(manifest["files"]) == 32
     for name in stitching_set_names():

@@ -53,8 +53,8 @@ FLOORS = [
     ["viz"],
     # Experiments of the book and their claims.
     ["reproduce"],
-    # The command line.
-    ["cli"],
+    # The command line (``python -m clap_unified`` runs it).
+    ["cli", "__main__"],
 ]
 
 FLOOR_OF = {unit: level for level, units in enumerate(FLOORS) for unit in units}

@@ -263,7 +263,7 @@ def test_vpg_root_says_where_to_put_the_files(tmp_path, monkeypatch):
         vpg_root()
     (tmp_path / "mirror" / "vpg" / "S01").mkdir(parents=True)
     assert vpg_root() == tmp_path / "mirror" / "vpg"
-    assert json.loads((fetch_module.DATA_DIR / "vpg" / "manifest.json").read_text())["source"]
+    assert json.loads(fetch_module.manifest_file("vpg").read_text())["source"]
 
 
 @pytest.mark.parametrize("metric", ["lie", "lie_linear", "frobenius"])

@@ -1,8 +1,12 @@
 """Commands ``clap-unified stitch`` and ``clap-unified fit homography``.
 
-Bad input (unreadable image or CSV, too few matches) and a failed estimate
-raise ``ValueError``: the command prints one line and exits with status 2,
-and no panorama file is written.
+Bad input (a missing or unreadable image or CSV, a folder, an image over
+:data:`MAX_IMAGE_PIXELS`, an unwritable output) raises ``ValueError``: the command prints
+one line and exits with status 2. A failed estimate (fewer than 8 matches, no consensus,
+fewer than 8 matches agreeing with it, a homography that gives no plausible panorama) is a
+result with ``success: false`` and a ``reason``: status 1.
+Either way no panorama file is written: it is written to a temporary file next to the
+target and renamed only on success.
 """
 
 from __future__ import annotations
@@ -13,94 +17,214 @@ from pathlib import Path
 
 import numpy as np
 
-from ..io import read_points_csv
+from ..io import MAX_ROWS, float_option, int_option, read_points_csv
+from ..result import ConsensusResult
+from ..spaces.homography import HomographySpace
 from .estimate import MIN_MATCHES, estimate_homography, method_names
 
-__all__ = ["fit_homography_command", "register", "stitch_command"]
+__all__ = ["MAX_IMAGE_PIXELS", "add_fit_homography", "fit_homography_command", "register",
+           "stitch_command"]
 
 #: ``--method`` choices: the protocols and every registered homography strategy.
 METHODS = method_names()
 
+#: Images with more pixels are refused: two 24-megapixel photographs take about 25 s and 6 GB
+#: of memory (SIFT, then the panorama canvas).
+MAX_IMAGE_PIXELS = 25_000_000
+
+_METHOD_HELP = ("homography estimator (default clap): clap (the library's CLAP), clap_paper "
+                "(the paper's protocol), ransac, randomized_hough, or another library's "
+                "estimator (cv2_ransac, magsac, usac_accurate, usac_ransac_fixed, poselib, "
+                "colmap)")
+
 
 def register(sub) -> None:
     """Add ``stitch``."""
-    p = sub.add_parser("stitch", help="stitch RIGHT into LEFT's frame (SIFT + homography)")
-    p.add_argument("left", help="left image file")
-    p.add_argument("right", help="right image file")
-    p.add_argument("-o", "--output", required=True, help="panorama file to write (e.g. .png)")
-    p.add_argument("--method", choices=METHODS, default="clap",
-                   help="consensus strategy (default clap)")
-    p.add_argument("--blend", choices=["none", "overwrite", "feather"], default="feather")
-    p.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
-    p.add_argument("--ratio", type=float, default=0.75, help="SIFT ratio test (default 0.75)")
+    p = sub.add_parser(
+        "stitch", help="stitch RIGHT into LEFT's frame (SIFT + homography)",
+        description="Match SIFT features of LEFT and RIGHT (Lowe's ratio test), estimate the "
+                    "homography H from LEFT to RIGHT, warp RIGHT into LEFT's frame on a "
+                    "canvas holding both, blend, and write the panorama to OUT. The JSON's "
+                    "model is {\"H\": 3 x 3 row-major, H33 = 1}, plus matches, blend, output "
+                    "and size [width, height]. Fewer than "
+                    f"{MIN_MATCHES} matches, or a homography that gives no plausible "
+                    "panorama, is a failed estimate (exit 1) and OUT is not written.")
+    p.add_argument("left", metavar="LEFT",
+                   help=f"left image file (any format OpenCV reads: PNG, JPEG, ...; at most "
+                        f"{MAX_IMAGE_PIXELS // 10**6} megapixels)")
+    p.add_argument("right", metavar="RIGHT", help="right image file (as LEFT)")
+    p.add_argument("-o", "--output", required=True, metavar="OUT",
+                   help="panorama file to write (.png or .jpg); its folder must exist; "
+                        "written only on success")
+    p.add_argument("--method", choices=METHODS, default="clap", help=_METHOD_HELP)
+    p.add_argument("--blend", choices=["none", "overwrite", "feather"], default="feather",
+                   help="how the overlap is blended: none (overlay), overwrite, feather "
+                        "(distance-transform weights; default)")
+    p.add_argument("--seed", type=int_option(), default=0, help="random seed (default 0)")
+    p.add_argument("--ratio", type=float_option(0.0, 1.0), default=0.75,
+                   help="Lowe's ratio test for SIFT matches, in (0, 1] (default 0.75)")
     p.set_defaults(run=stitch_command)
 
 
 def add_fit_homography(kinds) -> None:
     """Add ``fit homography`` to the ``fit`` command's sub-parsers."""
-    p = kinds.add_parser("homography",
-                         help="fit a homography to MATCHES.csv (rows x1,y1,x2,y2)")
-    p.add_argument("matches", help="CSV file, one match per row: x1,y1,x2,y2 (header optional)")
-    p.add_argument("--method", choices=METHODS, default="clap",
-                   help="consensus strategy (default clap)")
-    p.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
-    p.add_argument("--threshold", type=float, default=3.0,
+    p = kinds.add_parser(
+        "homography", help="fit a homography to MATCHES.csv (rows x1,y1,x2,y2)",
+        description="Fit the homography H mapping point 1 to point 2 of the matches in "
+                    "MATCHES.csv. The JSON's model is {\"H\": 3 x 3 row-major, H33 = 1}, plus "
+                    f"matches. Fewer than {MIN_MATCHES} matches, or fewer than {MIN_MATCHES} "
+                    "agreeing with the estimate, is a failed estimate (exit 1).")
+    p.add_argument("matches", metavar="MATCHES.csv",
+                   help=f"CSV file, one match per row: x1,y1,x2,y2 in pixels (the VPG "
+                        f"correspondence format; header line optional; at most {MAX_ROWS} "
+                        "rows)")
+    p.add_argument("--method", choices=METHODS, default="clap", help=_METHOD_HELP)
+    p.add_argument("--seed", type=int_option(), default=0, help="random seed (default 0)")
+    p.add_argument("--threshold", type=float_option(), default=3.0,
                    help="inlier reprojection error in pixels (default 3)")
     p.set_defaults(run=fit_homography_command)
 
 
-def _checked(res, n_matches: int):
-    """``res`` when it is a usable estimate; ``ValueError`` saying why otherwise."""
-    if not res.success:
-        raise ValueError(f"homography estimate failed ({res.reason})")
-    if res.n_inliers < MIN_MATCHES:
-        raise ValueError(f"homography estimate failed (only {res.n_inliers} of {n_matches} "
-                         f"matches agree with it, fewer than {MIN_MATCHES})")
+def _failure(method: str, reason: str, n: int, threshold=None) -> ConsensusResult:
+    return ConsensusResult.failure(method, reason, n_data=n, space=HomographySpace(),
+                                   threshold=threshold)
+
+
+def _estimate(matches: np.ndarray, method: str, where: str, **options) -> ConsensusResult:
+    """The homography of ``matches``, or a failed result saying why (too few matches, no
+    consensus, too few matches agreeing with it)."""
+    n = len(matches)
+    if n < MIN_MATCHES:
+        return _failure(method, f"too few matches {where} ({n}; at least {MIN_MATCHES} are "
+                                "needed)", n, options.get("threshold"))
+    res = estimate_homography(matches, method, **options)
+    if res.success and res.n_inliers < MIN_MATCHES:
+        res = res.replace(success=False, reason=f"only {res.n_inliers} of {n} matches agree "
+                                                f"with the estimate, fewer than {MIN_MATCHES}")
     return res
 
 
-def _too_few(n: int, where: str) -> None:
-    if n < MIN_MATCHES:
-        raise ValueError(f"too few matches {where} ({n}; at least {MIN_MATCHES} are needed)")
-
-
 def fit_homography_command(args) -> dict:
-    matches = read_points_csv(args.matches, columns=4, min_rows=1)
-    _too_few(len(matches), f"in {args.matches}")
-    res = _checked(estimate_homography(matches, args.method, rng=args.seed,
-                                       threshold=args.threshold), len(matches))
+    args.progress.stage("reading matches")
+    matches = read_points_csv(args.matches, columns=4, min_rows=1, max_rows=MAX_ROWS)
+    args.progress.stage(f"fitting ({args.method})")
+    res = _estimate(matches, args.method, f"in {args.matches}", rng=args.seed,
+                    threshold=args.threshold)
     return {**res.to_dict(), "matches": len(matches)}
+
+
+def read_image_checked(path, name: str) -> np.ndarray:
+    """The image at ``path`` (BGR ``uint8``), or a ``ValueError`` naming ``name`` and the file:
+    missing, a folder, unreadable, over :data:`MAX_IMAGE_PIXELS`."""
+    import cv2
+
+    from ..io import check_input_file
+
+    try:
+        p = check_input_file(path, "image")
+    except ValueError as exc:
+        raise ValueError(f"{name}: {exc}") from None
+    size = _header_size(p)
+    if size is not None and size[0] * size[1] > MAX_IMAGE_PIXELS:
+        raise ValueError(f"{name}: {p}: more than {MAX_IMAGE_PIXELS:,} pixels "
+                         f"({size[0]} x {size[1]})")
+    buf = np.fromfile(p, dtype=np.uint8)
+    level = cv2.utils.logging.getLogLevel()
+    cv2.utils.logging.setLogLevel(cv2.utils.logging.LOG_LEVEL_SILENT)  # our one line says it
+    try:
+        img = cv2.imdecode(buf, cv2.IMREAD_COLOR) if buf.size else None
+    except cv2.error:
+        img = None
+    finally:
+        cv2.utils.logging.setLogLevel(level)
+    if img is None or img.size == 0:
+        raise ValueError(f"{name}: {p}: not a readable image")
+    if img.shape[0] * img.shape[1] > MAX_IMAGE_PIXELS:
+        raise ValueError(f"{name}: {p}: more than {MAX_IMAGE_PIXELS:,} pixels "
+                         f"({img.shape[1]} x {img.shape[0]})")
+    return img
+
+
+def _header_size(path: Path):
+    """``(width, height)`` from the image header without decoding it, or None."""
+    import warnings
+
+    try:
+        from PIL import Image
+    except ImportError:  # pragma: no cover - Pillow comes with matplotlib
+        return None
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # Pillow warns of large images: we check ourselves
+        try:
+            with Image.open(path) as im:
+                return im.size
+        except Image.DecompressionBombError:  # over 179 megapixels
+            return (MAX_IMAGE_PIXELS + 1, 1)
+        except Exception:  # not an image Pillow knows: OpenCV decides
+            return None
 
 
 def stitch_command(args) -> dict:
     import cv2
 
-    from .features import match_images
-    from .stitching import stitch
+    from .features import sift_matches
+    from .stitching import StitchError, stitch
 
     out = Path(args.output)
+    if out.is_dir():
+        raise ValueError(f"--output: {out} is a folder; give a file name such as pano.png")
     if not out.parent.is_dir():
-        raise ValueError(f"{out}: the output folder {out.parent} does not exist")
+        raise ValueError(f"--output: the folder {out.parent} of {out} does not exist")
     if not cv2.haveImageWriter(str(out)):
-        raise ValueError(f"{out}: OpenCV cannot write images with this extension "
+        raise ValueError(f"--output: {out}: OpenCV cannot write images with this extension "
                          "(use .png or .jpg)")
-    left, right, matches, quality = match_images(args.left, args.right, ratio=args.ratio)
-    _too_few(len(matches), f"between {args.left} and {args.right} (passing the ratio test)")
-    res = _checked(estimate_homography(matches, args.method, rng=args.seed), len(matches))
-    pano = stitch(left, right, np.asarray(res.model), blend=args.blend)
-    # write next to the target, then rename: never a half-written panorama
-    fd, tmp = tempfile.mkstemp(suffix=out.suffix or ".png", dir=out.parent)
+    args.progress.stage("reading images")
+    left = read_image_checked(args.left, "LEFT")
+    right = read_image_checked(args.right, "RIGHT")
+    args.progress.stage("matching SIFT features")
+    matches, _ = sift_matches(left, right, ratio=args.ratio)
+    args.progress.stage(f"estimating the homography ({args.method})")
+    res = _estimate(matches, args.method,
+                    f"between {args.left} and {args.right} (passing the ratio test)",
+                    rng=args.seed)
+    extra = {"matches": len(matches), "blend": args.blend, "output": None, "size": None}
+    if not res.success:
+        return {**res.to_dict(), **extra}
+    args.progress.stage("warping and blending")
+    try:
+        pano = stitch(left, right, np.asarray(res.model), blend=args.blend)
+    except StitchError as exc:
+        res = res.replace(success=False, reason=f"no plausible panorama ({exc})")
+        return {**res.to_dict(), **extra}
+    args.progress.stage("writing the panorama")
+    _write_atomic(out, pano)
+    return {**res.to_dict(), **extra, "output": str(out),
+            "size": [int(pano.shape[1]), int(pano.shape[0])]}
+
+
+def _write_atomic(out: Path, image: np.ndarray) -> None:
+    """Write ``image`` to a temporary file next to ``out``, then rename: never a half-written
+    panorama."""
+    import cv2
+
+    try:
+        fd, tmp = tempfile.mkstemp(suffix=out.suffix or ".png", prefix=f".{out.stem}.",
+                                   dir=out.parent)
+    except OSError as exc:
+        raise OSError(f"--output: {out}: cannot write in {out.parent} ({exc.strerror})") \
+            from None
+    umask = os.umask(0)
+    os.umask(umask)
+    os.fchmod(fd, 0o666 & ~umask)  # as open() would, not mkstemp's owner-only 0600
     os.close(fd)
     try:
         try:
-            written = cv2.imwrite(tmp, pano)
+            written = cv2.imwrite(tmp, image)
         except cv2.error as exc:
-            raise OSError(f"{out}: cannot write the panorama ({exc})") from None
+            raise OSError(f"--output: {out}: cannot write the panorama ({exc})") from None
         if not written:
-            raise OSError(f"{out}: cannot write the panorama")
+            raise OSError(f"--output: {out}: cannot write the panorama")
         os.replace(tmp, out)
     finally:
         if os.path.exists(tmp):
             os.remove(tmp)
-    return {**res.to_dict(), "matches": len(matches), "blend": args.blend,
-            "output": str(out), "size": [int(pano.shape[1]), int(pano.shape[0])]}

@@ -6,13 +6,17 @@ from pathlib import Path
 
 import numpy as np
 
-from ..io import read_json_list
-from ..maps.field import FIELD_DIMENSIONS, load_field
+from ..io import int_option, read_typed_points
+from ..maps.field import FIELD_DIMENSIONS, LANDMARK_TYPES, load_field
 from ..registry import strategy_names
 from ..spaces.landmarks2d import Landmark2DSpace
 from .localize2d import localize2d, observation_data
 
-__all__ = ["register", "read_observations"]
+__all__ = ["MAX_DETECTIONS", "register", "read_observations"]
+
+#: Detections in one frame at most: the candidate poses grow as the square of their number
+#: (200 detections take about 20 s).
+MAX_DETECTIONS = 200
 
 
 def read_observations(path):
@@ -21,26 +25,33 @@ def read_observations(path):
     Raises
     ------
     ValueError
-        Missing or unreadable file, invalid JSON, not a list, unknown types,
-        missing or non-finite coordinates; the message names the file.
+        Missing or unreadable file, a folder, invalid JSON, not a list, an empty list, more
+        than :data:`MAX_DETECTIONS` entries, unknown types, missing, non-numeric or
+        non-finite coordinates; the message names the file.
     """
     path = Path(path)
-    doc = read_json_list(path)
+    types, xy = read_typed_points(path, "xy", what="observations", max_items=MAX_DETECTIONS)
+    if not types:
+        raise ValueError(f"{path}: no detections (an empty list)")
     try:
-        data = observation_data(doc)
+        data = observation_data([{"type": t, "x": x, "y": y}
+                                 for t, (x, y) in zip(types, xy, strict=True)])
     except ValueError as exc:
         raise ValueError(f"{path}: {exc}") from None
-    if not np.all(np.isfinite(data)):
-        raise ValueError(f"{path}: observation coordinates must be finite numbers")
     return data
 
 
 def _prior(text):
+    """``--prior X,Y,THETA``: three finite numbers (metres, metres, radians)."""
+    import argparse
+
     try:
         x, y, theta = (float(v) for v in text.split(","))
     except ValueError:
-        raise ValueError(f"--prior: expected X,Y,THETA (metres, metres, radians), got {text!r}") \
-            from None
+        raise argparse.ArgumentTypeError(
+            f"expected X,Y,THETA (metres, metres, radians), got {text!r}") from None
+    if not np.all(np.isfinite([x, y, theta])):
+        raise argparse.ArgumentTypeError(f"expected finite numbers, got {text!r}")
     return x, y, theta
 
 
@@ -49,9 +60,10 @@ def _space(field: str) -> Landmark2DSpace:
 
 
 def _localize2d(args) -> dict:
+    args.progress.stage("reading detections")
     data = read_observations(args.observations)
-    prior = None if args.prior is None else _prior(args.prior)
-    res = localize2d(data, space=_space(args.field), method=args.method, prior=prior,
+    args.progress.stage(f"localizing ({args.method})")
+    res = localize2d(data, space=_space(args.field), method=args.method, prior=args.prior,
                      rng=args.seed)
     return {**res.to_dict(), "candidates": int(res.diagnostics.get("hypotheses", 0)),
             "field": args.field}
@@ -63,12 +75,23 @@ def register(sub) -> None:
         "localize2d", help="robot pose on a RoboCup field from landmark detections",
         description="Pose of the robot on the field (origin at the centre spot, x towards the "
                     "opponent goal) from OBS.json: a list of {\"type\", \"x\", \"y\"} detections "
-                    "in the robot frame (metres, x forward, y left).")
-    p.add_argument("observations", metavar="OBS.json")
-    p.add_argument("--field", choices=sorted(FIELD_DIMENSIONS), default="adult")
-    p.add_argument("--method", choices=list(strategy_names(_space("adult"))), default="clap")
-    p.add_argument("--prior", metavar="X,Y,THETA", default=None,
-                   help="previous estimate: CLAP's local mode; the other methods see only the "
+                    "in the robot frame (metres, x forward, y left). The JSON's model is "
+                    "{\"x\", \"y\", \"theta\"} (metres, radians), plus candidates and field. "
+                    "Fewer than two detections, or nothing near the prior, is a failed "
+                    "estimate (exit 1).")
+    p.add_argument("observations", metavar="OBS.json",
+                   help=f"JSON list of detections {{\"type\", \"x\", \"y\"}}, type one of "
+                        f"{', '.join(LANDMARK_TYPES)}, x and y finite numbers (metres); "
+                        f"1 to {MAX_DETECTIONS} entries")
+    p.add_argument("--field", choices=sorted(FIELD_DIMENSIONS), default="adult",
+                   help="RoboCup Humanoid field the robot is on: adult (AdultSize, 14 x 9 m; "
+                        "default) or kid (KidSize, 9 x 6 m)")
+    p.add_argument("--method", choices=list(strategy_names(_space("adult"))), default="clap",
+                   help="consensus strategy (default clap)")
+    p.add_argument("--prior", metavar="X,Y,THETA", type=_prior, default=None,
+                   help="previous estimate, e.g. --prior -1.2,3.4,0.1 (metres, metres, "
+                        "radians): CLAP's local mode; the other methods see only the "
                         "candidates near it")
-    p.add_argument("--seed", type=int, default=0, help="random seed (pair sampling only)")
+    p.add_argument("--seed", type=int_option(), default=0,
+                   help="random seed (pair sampling only; default 0)")
     p.set_defaults(run=_localize2d)

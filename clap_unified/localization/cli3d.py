@@ -4,27 +4,40 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..io import int_option
 from ..registry import strategy_names
 from ..spaces.landmarks3d import Landmark3DSpace
 from .localize3d import localize3d
 from .map3d import LandmarkMap3D, read_landmarks_json
 
-__all__ = ["register"]
+__all__ = ["MAX_DETECTIONS", "MAX_LANDMARKS", "register"]
+
+#: Detections in OBS.json at most.
+MAX_DETECTIONS = 500
+#: Landmarks in MAP.json at most: the candidates come from map triplets, whose number grows
+#: as the cube (200 landmarks of one type take about 10 s, 1000 over a minute).
+MAX_LANDMARKS = 200
 
 
 def _localize3d(args) -> dict:
-    types, positions = read_landmarks_json(args.map, "map")
+    args.progress.stage("reading the map")
+    types, positions = read_landmarks_json(args.map, "map", max_items=MAX_LANDMARKS)
     try:
         landmarks = LandmarkMap3D(types, positions, name=str(args.map))
     except ValueError as exc:
         raise ValueError(f"{args.map}: {exc}") from None
     space = landmarks.space()
-    obs_types, obs_xyz = read_landmarks_json(args.observations, "observations")
+    args.progress.stage("reading detections")
+    obs_types, obs_xyz = read_landmarks_json(args.observations, "observations",
+                                             max_items=MAX_DETECTIONS)
+    if not obs_types.size:
+        raise ValueError(f"{args.observations}: no detections (an empty list)")
     try:
         ids = [space.type_id(t) for t in obs_types]
     except ValueError as exc:
         raise ValueError(f"{args.observations}: {exc}") from None
     data = np.c_[np.asarray(ids, dtype=float), obs_xyz].reshape(-1, 4)
+    args.progress.stage(f"localizing ({args.method})")
     res = localize3d(data, landmarks, method=args.method, space=space, rng=args.seed)
     diag = res.diagnostics  # candidate poses, or the pairs handed to Open3D
     return {**res.to_dict(), "candidates": int(diag.get("hypotheses") or diag.get("candidates", 0)),
@@ -37,10 +50,20 @@ def register(sub) -> None:
         "localize3d", help="6-DoF pose from typed 3D landmark detections and a map",
         description="Pose T_world_body (a body point p is at R p + t in the world) from "
                     "OBS.json, a list of {\"type\", \"x\", \"y\", \"z\"} detections in the body "
-                    "frame (metres), and MAP.json, the same in the world frame.")
-    p.add_argument("observations", metavar="OBS.json")
-    p.add_argument("--map", required=True, metavar="MAP.json")
+                    "frame (metres), and MAP.json, the same in the world frame. The JSON's "
+                    "model is {\"rotation\": 3 x 3 row-major, \"translation\": [x, y, z]}, "
+                    "plus candidates and map. Fewer than three detections, or no triplet of "
+                    "detections matching the map, is a failed estimate (exit 1).")
+    p.add_argument("observations", metavar="OBS.json",
+                   help="JSON list of detections {\"type\", \"x\", \"y\", \"z\"} in the "
+                        "body frame: type a string the map has, x, y, z finite numbers "
+                        f"(metres); 1 to {MAX_DETECTIONS} entries")
+    p.add_argument("--map", required=True, metavar="MAP.json",
+                   help="JSON list of landmarks {\"type\", \"x\", \"y\", \"z\"} in the "
+                        f"world frame (metres); 3 to {MAX_LANDMARKS} entries")
     methods = strategy_names(Landmark3DSpace(np.eye(3), ["a", "b", "c"]))
-    p.add_argument("--method", choices=list(methods), default="clap")
-    p.add_argument("--seed", type=int, default=0, help="random seed (triplet sampling)")
+    p.add_argument("--method", choices=list(methods), default="clap",
+                   help="consensus strategy (default clap; open3d: Open3D's RANSAC)")
+    p.add_argument("--seed", type=int_option(), default=0,
+                   help="random seed (triplet sampling; default 0)")
     p.set_defaults(run=_localize3d)

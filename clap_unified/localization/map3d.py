@@ -12,12 +12,11 @@ triplet of them also fits a camera flipped upside down below the floor.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from pathlib import Path
 
 import numpy as np
 
 from .._validation import check_points
-from ..io import read_json_list
+from ..io import MAX_ITEMS, read_typed_points
 from ..maps.field import FIELD_DIMENSIONS, field_landmarks
 
 __all__ = ["LandmarkMap3D", "lab_map", "read_landmarks_json", "GOAL_HEIGHT"]
@@ -103,28 +102,16 @@ def lab_map(size: str = "adult", *, markers: bool = True) -> LandmarkMap3D:
     return LandmarkMap3D(np.array(types), np.array(pos), name=f"lab-{size}")
 
 
-def read_landmarks_json(path, what: str = "map") -> tuple[np.ndarray, np.ndarray]:
+def read_landmarks_json(path, what: str = "map", *,
+                        max_items: int = MAX_ITEMS) -> tuple[np.ndarray, np.ndarray]:
     """Types ``(M,)`` and positions ``(M, 3)`` from a JSON list of ``{"type", "x", "y", "z"}``.
 
     Raises
     ------
     ValueError
-        Missing or unreadable file, invalid JSON, not a list, missing or
-        non-numeric or non-finite coordinates; the message names the file.
+        Missing or unreadable file, a folder, invalid JSON, not a list, more than
+        ``max_items`` entries, a missing, non-numeric or non-finite coordinate, a type that
+        is not a string; the message names the file and the entry.
     """
-    path = Path(path)
-    doc = read_json_list(path, what=what, item='{"type", "x", "y", "z"}')
-    types, pos = [], []
-    for i, item in enumerate(doc):
-        try:
-            kind = item["type"]
-            xyz = [float(item[c]) for c in "xyz"]
-        except (KeyError, TypeError, ValueError):
-            raise ValueError(f"{path}: entry {i}: expected {{\"type\", \"x\", \"y\", \"z\"}} "
-                             f"with numbers, got {item!r}") from None
-        if not isinstance(kind, str) or not np.all(np.isfinite(xyz)):
-            raise ValueError(f"{path}: entry {i}: type must be a string and x, y, z finite "
-                             "numbers")
-        types.append(kind)
-        pos.append(xyz)
-    return np.array(types, dtype=str), np.array(pos, dtype=float).reshape(-1, 3)
+    types, pos = read_typed_points(path, "xyz", what=what, max_items=max_items)
+    return np.array(types, dtype=str), pos

@@ -1,19 +1,22 @@
 """RoboCup Humanoid soccer fields as typed landmark maps.
 
 Field frame: origin at the centre spot, x towards the opponent goal, y to the
-left, metres. The landmark files in ``data/fields/`` are generated from the
-rule dimensions by :func:`field_landmarks` and checked against it by the tests.
+left, metres. The landmark files ``clap_unified/maps/fields/<name>.json`` (package data,
+read with ``importlib.resources``, so an installed package finds them) are generated
+from the rule dimensions by :func:`field_landmarks` and checked against it by the tests.
 """
 
 from __future__ import annotations
 
 import json
 from dataclasses import dataclass
+from importlib import resources
 from pathlib import Path
 
 import numpy as np
 
-__all__ = ["LANDMARK_TYPES", "Field", "field_landmarks", "load_field", "FIELD_DIMENSIONS"]
+__all__ = ["LANDMARK_TYPES", "Field", "field_file", "field_landmarks", "load_field",
+           "FIELD_DIMENSIONS"]
 
 #: Landmark types, as used in observation files.
 LANDMARK_TYPES = ("L", "T", "X", "goal_post", "penalty_mark", "center_mark")
@@ -28,7 +31,19 @@ FIELD_DIMENSIONS = {
                 penalty_area_length=2.0, penalty_area_width=5.0),
 }
 
-DATA_DIR = Path(__file__).resolve().parents[2] / "data" / "fields"
+
+
+def field_file(name: str):
+    """The packaged landmark file of field ``name`` (a ``importlib.resources`` traversable).
+
+    Examples
+    --------
+    >>> field_file("adult").name
+    'adult.json'
+    """
+    if name not in FIELD_DIMENSIONS:
+        raise ValueError(f"name: expected one of {sorted(FIELD_DIMENSIONS)}, got {name!r}")
+    return resources.files(__package__).joinpath("fields", f"{name}.json")
 
 
 def field_landmarks(dims: dict) -> list[dict]:
@@ -91,7 +106,7 @@ class Field:
 
 
 def load_field(name: str = "adult", path=None) -> Field:
-    """Load a field's landmark map from ``data/fields/<name>.json`` (or ``path``).
+    """Load a field's landmark map: the packaged ``fields/<name>.json`` (or the file ``path``).
 
     Examples
     --------
@@ -99,11 +114,7 @@ def load_field(name: str = "adult", path=None) -> Field:
     >>> f.of_type("goal_post").tolist()[:2]
     [[-4.5, -1.3], [-4.5, 1.3]]
     """
-    if path is None:
-        if name not in FIELD_DIMENSIONS:
-            raise ValueError(f"name: expected one of {sorted(FIELD_DIMENSIONS)}, got {name!r}")
-        path = DATA_DIR / f"{name}.json"
-    path = Path(path)
+    path = field_file(name) if path is None else Path(path)
     try:
         doc = json.loads(path.read_text())
         marks = doc["landmarks"]

@@ -4,7 +4,10 @@ from __future__ import annotations
 
 from pathlib import Path
 
-__all__ = ["register"]
+__all__ = ["MAX_JOBS", "register"]
+
+#: ``--jobs`` at most (each job is a process holding its own copy of the data).
+MAX_JOBS = 64
 
 
 def _jobs(text: str) -> int:
@@ -16,17 +19,28 @@ def _jobs(text: str) -> int:
         raise argparse.ArgumentTypeError(f"expected a whole number, got {text!r}") from None
     if value < 1:
         raise argparse.ArgumentTypeError(f"expected at least 1, got {value}")
+    if value > MAX_JOBS:
+        raise argparse.ArgumentTypeError(f"expected at most {MAX_JOBS}, got {value}")
     return value
 
 
 def register(sub) -> None:
     """Add ``reproduce``."""
-    p = sub.add_parser("reproduce", help="regenerate the paper's experiments, figures and claims")
+    p = sub.add_parser(
+        "reproduce", help="regenerate the paper's experiments, figures and claims",
+        description="Run every experiment of the paper and write into OUT: claims.json and "
+                    "claims.md (one verdict per claim: reproduced, partly reproduced, not "
+                    "reproduced, data unavailable), figures/*.png and *.svg, tables/*.csv, "
+                    "timings.json, and the cache experiments/*.json. Prints a JSON summary "
+                    "(out, claims, ran, reused, skipped, seconds, success). A missing data "
+                    "set is bad input (exit 2; the line says where to put it) unless "
+                    "--allow-missing.")
     p.add_argument("--quick", action="store_true",
                    help="fewer trials, same verdict rules (minutes instead of tens of minutes)")
     p.add_argument("--out", default="reproduction", help="output folder (default ./reproduction)")
     p.add_argument("--jobs", type=_jobs, default=1,
-                   help="experiments in parallel, joblib processes (default 1)")
+                   help=f"experiments in parallel, joblib processes (default 1, at most "
+                        f"{MAX_JOBS})")
     p.add_argument("--scheduler", default=None, metavar="ADDRESS",
                    help="run on an existing Dask distributed scheduler, e.g. tcp://host:8786")
     p.add_argument("--force", action="store_true", help="recompute cached experiments")
@@ -46,7 +60,7 @@ def _run(args) -> dict:
     only = [s.strip() for s in args.only.split(",") if s.strip()] if args.only else None
     res = reproduce(Path(args.out), quick=args.quick, jobs=args.jobs, scheduler=args.scheduler,
                     force=args.force, allow_missing=args.allow_missing, only=only,
-                    progress=not args.no_progress)
+                    progress=not (args.no_progress or args.quiet))
     return {"out": str(res.out), "claims": {c["key"]: c["verdict"] for c in res.claims},
             "ran": res.ran, "reused": res.reused, "skipped": res.skipped,
             "seconds": round(res.seconds, 1), "success": True}

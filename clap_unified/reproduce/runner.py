@@ -116,12 +116,13 @@ def _json_data(obj):
 
 @functools.cache
 def code_fingerprint() -> str:
-    """sha256 of the package's source and the data manifests: a change recomputes the cache."""
+    """sha256 of the package's source and its package data (field maps, dataset manifests): a
+    change recomputes the cache."""
     import hashlib
 
     root = Path(__file__).resolve().parents[1]
     h = hashlib.sha256()
-    files = sorted(root.rglob("*.py")) + sorted((root.parent / "data").rglob("*.json"))
+    files = sorted(root.rglob("*.py")) + sorted(root.rglob("*.json"))
     for f in files:
         h.update(f.relative_to(root.parent).as_posix().encode())
         h.update(f.read_bytes())

@@ -24,7 +24,7 @@ frozen parts whose arrays are read-only copies
 * ``pair.truth`` (:class:`HomographyTruth`): ``H``, ``inliers`` (over
   ``input.matches``), ``validation``: what scores it.
 
-Files come from the manifest ``data/homography/manifest.json`` through
+Files come from the manifest ``manifests/homography.json`` (package data) through
 :func:`~clap_unified.imaging.datasets.sources.fetch` (mirror, cache or the
 public source, sha256 checked).
 """

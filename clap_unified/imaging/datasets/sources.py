@@ -1,15 +1,17 @@
 """Finding dataset files: local mirror, download cache, public source; sha256 checked.
 
-A dataset is described by a manifest ``data/<dataset>/manifest.json`` in the
-repository: ``base_url`` (public source), ``files`` (relative path ->
+A dataset is described by a manifest ``manifests/<dataset>.json``, package data
+next to this module (read with ``importlib.resources``, so an installed
+package has it): ``base_url`` (public source), ``files`` (relative path ->
 sha256) and optionally ``remote`` (relative path -> path under ``base_url``
 where the public source lays files out differently; with ``"remote_complete":
 false`` a file without a ``remote`` entry has no known public location). A file
 is looked up, in order, in
 
 1. the mirror: ``$CLAP_UNIFIED_DATA/<mirror_dir>`` when that environment
-   variable is set, else ``../shared/data/<mirror_dir>`` next to the
-   repository root;
+   variable is set, else, when the package runs from a checkout,
+   ``../shared/data/<mirror_dir>`` next to the repository root (an installed
+   package has no such default);
 2. the download cache ``$CLAP_UNIFIED_CACHE/<mirror_dir>`` (default
    ``~/.cache/clap_unified/<mirror_dir>``);
 3. the public source ``base_url + path``, downloaded into the cache.
@@ -26,12 +28,20 @@ import json
 import os
 import urllib.request
 from functools import cache
+from importlib import resources
 from pathlib import Path
 
-__all__ = ["DATA_DIR", "cache_dir", "fetch", "load_manifest", "mirror_dir", "sha256"]
+__all__ = ["MANIFESTS", "cache_dir", "fetch", "load_manifest", "manifest_file", "mirror_dir",
+           "sha256"]
 
-#: The repository's ``data/`` folder (manifests).
-DATA_DIR = Path(__file__).resolve().parents[3] / "data"
+#: The packaged manifests (``manifests/<dataset>.json``), an ``importlib.resources``
+#: traversable.
+MANIFESTS = resources.files(__package__).joinpath("manifests")
+
+#: The repository root when the package runs from a checkout (it holds ``pyproject.toml``),
+#: else None (an installed package).
+_CHECKOUT = Path(__file__).resolve().parents[3]
+CHECKOUT = _CHECKOUT if (_CHECKOUT / "pyproject.toml").is_file() else None
 
 #: Seconds before a download attempt gives up.
 TIMEOUT = 20.0
@@ -46,20 +56,41 @@ def sha256(path) -> str:
     return h.hexdigest()
 
 
+def manifest_file(dataset: str):
+    """The packaged manifest of ``dataset`` (an ``importlib.resources`` traversable).
+
+    Examples
+    --------
+    >>> manifest_file("homography").name
+    'homography.json'
+    """
+    return MANIFESTS.joinpath(f"{dataset}.json")
+
+
 @cache
 def load_manifest(dataset: str) -> dict:
-    """The manifest ``data/<dataset>/manifest.json`` as a dict."""
-    path = DATA_DIR / dataset / "manifest.json"
+    """The manifest of ``dataset`` (``manifests/<dataset>.json``, package data) as a dict.
+
+    Examples
+    --------
+    >>> sorted(load_manifest("stitching_sets")["sets"])[:2]
+    ['boat', 'bridge']
+    """
+    path = manifest_file(dataset)
     if not path.is_file():
-        raise FileNotFoundError(f"dataset {dataset!r}: no manifest at {path}")
+        raise FileNotFoundError(f"dataset {dataset!r}: no manifest {path}")
     return json.loads(path.read_text())
 
 
-def mirror_dir(name: str) -> Path:
-    """Where a local mirror of ``name`` is looked for (may not exist)."""
+def mirror_dir(name: str) -> Path | None:
+    """Where a local mirror of ``name`` is looked for (may not exist); None when no mirror is
+    configured (``CLAP_UNIFIED_DATA`` unset and the package installed, not in a checkout)."""
     env = os.environ.get("CLAP_UNIFIED_DATA")
-    base = Path(env) if env else DATA_DIR.parent.parent / "shared" / "data"
-    return base / name
+    if env:
+        return Path(env) / name
+    if CHECKOUT is None:
+        return None
+    return CHECKOUT.parent / "shared" / "data" / name
 
 
 def cache_dir(name: str) -> Path:
@@ -95,7 +126,7 @@ def fetch(dataset: str, relpath: str, *, download: bool = True) -> Path:
     Parameters
     ----------
     dataset : str
-        Manifest folder under ``data/`` (e.g. ``"homography"``); its
+        Manifest name (``manifests/<dataset>.json``, e.g. ``"homography"``); its
         ``mirror_dir`` key (default the same name) names the mirror folder.
     relpath : str
         A path listed in the manifest's ``files``.
@@ -116,7 +147,8 @@ def fetch(dataset: str, relpath: str, *, download: bool = True) -> Path:
         raise ValueError(f"{dataset}: {relpath!r} is not in the manifest")
     want = files[relpath]
     name = man.get("mirror_dir", dataset)
-    places = [mirror_dir(name) / relpath, cache_dir(name) / relpath]
+    mirror = mirror_dir(name)
+    places = ([] if mirror is None else [mirror / relpath]) + [cache_dir(name) / relpath]
     for p in places:
         if p.is_file():
             got = sha256(p)
@@ -131,14 +163,16 @@ def fetch(dataset: str, relpath: str, *, download: bool = True) -> Path:
         reason = "no public download location is known for this file; get it from the source"
     elif download:
         try:
-            _download(url, places[1])
+            _download(url, places[-1])
         except OSError as exc:
             reason = f"download failed ({exc})"
         else:
             return fetch(dataset, relpath, download=False)
     else:
         reason = "downloads disabled"
-    raise FileNotFoundError(
-        f"{dataset}: {relpath} not found ({reason}). Put the file at {places[0]} "
-        f"(or set CLAP_UNIFIED_DATA to a folder holding {name}/), or at {places[1]}; "
-        f"source: {url}")
+    where = (f"Put the file at {places[0]} (or set CLAP_UNIFIED_DATA to a folder holding "
+             f"{name}/), or at {places[-1]}" if mirror is not None else
+             f"Set CLAP_UNIFIED_DATA to a folder holding {name}/{relpath}, or put the file at "
+             f"{places[-1]}")
+    raise FileNotFoundError(f"{dataset}: {relpath} not found ({reason}). {where}; "
+                            f"source: {url}")

@@ -8,7 +8,7 @@ no homography explains them exactly and there is no ground truth, so they are
 scored like the paper scores S13-S36, by the symmetric reprojection error and
 the inlier ratio of each method on the matches the pipeline computes.
 
-Files come from the manifest ``data/stitching_sets/manifest.json`` through
+Files come from the manifest ``manifests/stitching_sets.json`` (package data) through
 :func:`~clap_unified.imaging.datasets.sources.fetch` (mirror, cache or the
 public source, sha256 checked).
 """

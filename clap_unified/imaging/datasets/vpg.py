@@ -18,7 +18,7 @@ correspondences, S13-S36 real):
 The dataset root is ``$CLAP_UNIFIED_VPG`` when set, else ``vpg/`` of the local
 mirror (:func:`~clap_unified.imaging.datasets.sources.mirror_dir`), else the
 download cache. :func:`vpg_root` downloads and unpacks the archive named in
-``data/vpg/manifest.json`` when it has one and the network allows, and
+the packaged manifest ``manifests/vpg.json`` when it has one and the network allows, and
 otherwise raises ``FileNotFoundError`` saying where to put the files.
 """
 
@@ -271,7 +271,9 @@ def vpg_root(*, download: bool = True) -> Path:
     """
     man = load_manifest("vpg")
     env = os.environ.get("CLAP_UNIFIED_VPG")
-    places = ([Path(env)] if env else []) + [mirror_dir("vpg"), cache_dir("vpg")]
+    mirror = mirror_dir("vpg")
+    places = ([Path(env)] if env else []) + ([] if mirror is None else [mirror]) + \
+        [cache_dir("vpg")]
     for p in places:
         if p.is_dir() and list_vpg_sets(p):
             return p
@@ -293,5 +295,5 @@ def vpg_root(*, download: bool = True) -> Path:
     raise FileNotFoundError(
         f"VPG dataset not found ({reason}). Get it from {man['source']} and put the set "
         f"folders S01/ ... S36/ (each with NN.jpg, mNN-MM.txt, camera-NN.txt, "
-        f"Sxx-STITCH-GRAPH.txt) in {places[-2]} or {places[-1]}, or set CLAP_UNIFIED_VPG "
-        "to the folder holding them")
+        f"Sxx-STITCH-GRAPH.txt) in {' or '.join(str(p) for p in places)}, or set "
+        "CLAP_UNIFIED_VPG to the folder holding them")
