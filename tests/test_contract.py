@@ -16,7 +16,7 @@ import pytest
 
 from clap_unified import fit, strategy_names
 from clap_unified.registry import get_strategy
-from clap_unified.spaces import LineSpace
+from clap_unified.spaces import CircleSpace, LineSpace
 from clap_unified.spaces.homography import HomographySpace
 from clap_unified.spaces.rigid3d import Correspondence3DSpace
 from clap_unified.viz import line_scene
@@ -33,6 +33,14 @@ def _line_transfer():
     pts = line_scene(150, 0.4, rng=0).input.points
     return (LineSpace.for_data(pts, metric="transfer"), pts, np.zeros((30, 2)), 0.06,
             "points")
+
+
+def _circle():
+    g = np.random.default_rng(4)
+    t = g.uniform(0, 2 * np.pi, 150)
+    pts = np.c_[2.0 + 3.0 * np.cos(t), -1.0 + 3.0 * np.sin(t)] + g.normal(0, 0.01, (150, 2))
+    pts[:60] = g.uniform(-3, 7, (60, 2))
+    return CircleSpace(), pts, np.zeros((30, 2)), 0.05, "points"
 
 
 def _homography():
@@ -96,7 +104,7 @@ def _observations():
 
 SPACES = {"line": _line, "line_transfer": _line_transfer, "homography": _homography,
           "pose2d": _pose2d, "pose3d": _pose3d, "rigid3d": _rigid3d,
-          "observations": _observations}
+          "observations": _observations, "circle": _circle}
 #: Options a space needs that have no default there.
 OPTIONS = {"observations": {"randomized_hough": {"cell_size": 0.2}}}
 _CACHE: dict = {}

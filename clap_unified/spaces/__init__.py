@@ -1,6 +1,7 @@
 """Hypothesis spaces: model families, their minimal solvers and residuals."""
 
 from .base import HypothesisSet, HypothesisSpace
+from .circles import CircleSpace
 from .homography import HomographySpace, dlt
 from .landmarks3d import Landmark3DSpace
 from .lines import LineSpace
@@ -9,6 +10,7 @@ from .rigid3d import Correspondence3DSpace, kabsch
 from .sampling import enumerate_hypotheses, generate_hypotheses, sample_subsets
 
 __all__ = [
+    "CircleSpace",
     "Correspondence3DSpace",
     "HypothesisSet",
     "HomographySpace",

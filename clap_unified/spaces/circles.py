@@ -1,0 +1,96 @@
+"""Hypothesis space of circles in the plane: three points make a circle.
+
+This module is also the library's worked example of a new space
+(``ARCHITECTURE.md``, "How to add a space"): a subclass of
+:class:`~clap_unified.spaces.base.HypothesisSpace` that sets ``min_samples``,
+``model_shape`` and ``name`` and implements ``manifold``, ``check_data``,
+``solve_minimal``, ``residuals`` and ``refit``, in about fifty lines. Every
+general strategy (CLAP, RANSAC, randomized Hough) then runs on it through
+:func:`~clap_unified.fit` and :func:`~clap_unified.compare`.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .._validation import check_points
+from ..geometry.euclidean import Euclidean
+from .base import HypothesisSpace
+
+__all__ = ["CircleSpace"]
+
+
+class CircleSpace(HypothesisSpace):
+    """Circles ``(cx, cy, r)`` fitted to 2D points ``(N, 2)``.
+
+    The minimal solver is the circumcircle of three points (collinear samples
+    have none); residuals are distances to the circle; the refit is the
+    algebraic (Kasa) least-squares circle. Hypotheses live on the flat
+    manifold ``Euclidean(3)``: two circles are as far apart as their centres
+    and radii, in data units.
+
+    Examples
+    --------
+    >>> from clap_unified import fit
+    >>> t = np.linspace(0, 2 * np.pi, 60, endpoint=False)
+    >>> pts = np.c_[2 + 3 * np.cos(t), -1 + 3 * np.sin(t)]
+    >>> pts[::3] = np.random.default_rng(0).uniform(-3, 7, (20, 2))  # 20 outliers, 1 near
+    >>> res = fit(CircleSpace(), pts, "clap", threshold=0.05, rng=0)
+    >>> print(f"centre ({res.model[0]:.3f}, {res.model[1]:.3f}), radius {res.model[2]:.3f}, "
+    ...       f"{res.n_inliers} inliers")
+    centre (2.000, -1.000), radius 3.000, 41 inliers
+    """
+
+    min_samples = 3
+    model_shape = (3,)
+    name = "circle"
+
+    def __init__(self):
+        self._manifold = Euclidean(3)
+
+    def __repr__(self) -> str:
+        return "CircleSpace()"
+
+    @property
+    def manifold(self) -> Euclidean:
+        return self._manifold
+
+    def check_data(self, data) -> np.ndarray:
+        return check_points(data, "points", dim=2, min_count=self.min_samples)
+
+    def solve_minimal(self, data, samples):
+        a, b, c = (data[samples[:, k]] for k in range(3))
+        d = 2 * (a[:, 0] * (b[:, 1] - c[:, 1]) + b[:, 0] * (c[:, 1] - a[:, 1])
+                 + c[:, 0] * (a[:, 1] - b[:, 1]))
+        scale = max(float(np.max(np.abs(data))), 1.0)
+        ok = np.abs(d) > 1e-9 * scale * scale  # collinear samples have no circle
+        a, b, c, d = a[ok], b[ok], c[ok], d[ok]
+        sa, sb, sc = (np.sum(p * p, axis=1) for p in (a, b, c))
+        cx = (sa * (b[:, 1] - c[:, 1]) + sb * (c[:, 1] - a[:, 1]) + sc * (a[:, 1] - b[:, 1])) / d
+        cy = (sa * (c[:, 0] - b[:, 0]) + sb * (a[:, 0] - c[:, 0]) + sc * (b[:, 0] - a[:, 0])) / d
+        r = np.hypot(a[:, 0] - cx, a[:, 1] - cy)
+        return np.c_[cx, cy, r], np.flatnonzero(ok)
+
+    def residuals(self, models, data) -> np.ndarray:
+        m = np.asarray(models, dtype=float).reshape(-1, 3)
+        dx = data[None, :, 0] - m[:, None, 0]
+        dy = data[None, :, 1] - m[:, None, 1]
+        return np.abs(np.hypot(dx, dy) - m[:, None, 2])
+
+    def refit(self, data, weights=None, initial=None):
+        if len(data) < 3:
+            return None
+        w = np.ones(len(data)) if weights is None else np.sqrt(np.asarray(weights, float))
+        A = np.c_[2 * data, np.ones(len(data))] * w[:, None]
+        sol, *_ = np.linalg.lstsq(A, np.sum(data * data, axis=1) * w, rcond=None)
+        r2 = sol[2] + sol[0] ** 2 + sol[1] ** 2
+        return None if not np.isfinite(r2) or r2 <= 0 else np.r_[sol[:2], np.sqrt(r2)]
+
+    def model_to_dict(self, model) -> dict:
+        cx, cy, r = (float(v) for v in model)
+        return {"centre": [cx, cy], "radius": r}
+
+    def default_threshold(self, data) -> float:
+        # 1 % of the data's RMS radius: a scale-free default; pass a value for real units.
+        centre = data.mean(axis=0)
+        return 0.01 * max(float(np.sqrt(np.mean(np.sum((data - centre) ** 2, axis=1)))), 1e-12)
