@@ -30,8 +30,9 @@ def register(sub) -> None:
         "reproduce", help="regenerate the paper's experiments, figures and claims",
         description="Run every experiment of the paper and write into OUT: claims.json and "
                     "claims.md (one verdict per claim: reproduced, partly reproduced, not "
-                    "reproduced, data unavailable), figures/*.png and *.svg, tables/*.csv, "
-                    "timings.json, and the cache experiments/*.json. Prints a JSON summary "
+                    "reproduced, data unavailable), the figures (PNG and SVG, in figures/), "
+                    "the tables (CSV, in tables/), timings.json, and the cache of "
+                    "experiments (JSON, in experiments/). Prints a JSON summary "
                     "(out, claims, ran, reused, skipped, seconds, success). A missing data "
                     "set is bad input (exit 2; the line says where to put it) unless "
                     "--allow-missing.")
