@@ -13,7 +13,13 @@ true lines, for scoring).
 """
 
 from .field import LANDMARK_STYLE, draw_detections, draw_field, draw_pose
-from .plots import plot_accumulator, plot_error_curves, plot_hypotheses, plot_points_and_lines
+from .plots import (
+    plot_accumulator,
+    plot_error_cdf,
+    plot_error_curves,
+    plot_hypotheses,
+    plot_points_and_lines,
+)
 from .scenes import LineInput, LineScene, LineTruth, line_errors, line_scene
 from .style import METHOD_STYLE, book_style, format_table
 
@@ -31,6 +37,7 @@ __all__ = [
     "line_errors",
     "line_scene",
     "plot_accumulator",
+    "plot_error_cdf",
     "plot_error_curves",
     "plot_hypotheses",
     "plot_points_and_lines",

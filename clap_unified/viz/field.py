@@ -63,7 +63,7 @@ def draw_field(ax, field, *, landmarks: bool = True, legend: bool = False, lines
     ax.set_xticks([])
     ax.set_yticks([])
     if legend:
-        ax.legend(loc="upper center", ncol=6, fontsize=7, bbox_to_anchor=(0.5, -0.01),
+        ax.legend(loc="upper center", ncol=6, fontsize=8, bbox_to_anchor=(0.5, -0.01),
                   frameon=False)
     return ax
 

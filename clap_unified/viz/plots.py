@@ -1,4 +1,5 @@
-"""Plotting helpers for the line chapters. Each draws on an ``Axes`` it is given."""
+"""Plotting helpers for the line chapters and the error curves of every chapter. Each draws
+on an ``Axes`` it is given."""
 
 from __future__ import annotations
 
@@ -7,7 +8,8 @@ import numpy as np
 from ..geometry.lines import Line2D, canonical_lines
 from .style import METHOD_STYLE
 
-__all__ = ["plot_accumulator", "plot_error_curves", "plot_hypotheses", "plot_points_and_lines"]
+__all__ = ["plot_accumulator", "plot_error_cdf", "plot_error_curves", "plot_hypotheses",
+           "plot_points_and_lines"]
 
 
 def _rho_from(lines, origin):
@@ -119,7 +121,7 @@ def plot_hypotheses(ax, models, *, values=None, origin=(0.0, 0.0), truth=None, c
         sub = ax.inset_axes([0.6, 0.6, 0.38, 0.38])
         sub.set_xlim(inset[0], inset[1])
         sub.set_ylim(inset[2], inset[3])
-        sub.tick_params(labelsize=7)
+        sub.tick_params(labelsize=8)
         ax.indicate_inset_zoom(sub, edgecolor="0.3")
         targets.append(sub)
     for target in targets:
@@ -206,7 +208,8 @@ def plot_error_curves(axes, ratios, errors, *, quantiles=(0.25, 0.75), log: bool
     errors : dict
         Method name to a pair ``(angle, offset)`` of arrays of shape
         ``(R, T)`` (degrees, data units), ``T`` seeded trials per ratio.
-        Names in :data:`~clap_unified.viz.style.METHOD_STYLE` get its colours.
+        Names in :data:`~clap_unified.viz.style.METHOD_STYLE` get its colours,
+        markers and line styles.
     quantiles : (float, float)
         The shaded band (default: the inter-quartile range).
     log : bool
@@ -229,10 +232,60 @@ def plot_error_curves(axes, ratios, errors, *, quantiles=(0.25, 0.75), log: bool
             med = np.median(err, axis=1)
             lo, hi = np.quantile(err, quantiles, axis=1)
             ax.plot(x, med, marker=style.get("marker", "o"), color=style.get("color"),
-                    label=style["label"], ms=4)
+                    ls=style.get("linestyle", "-"), label=style["label"], ms=5)
             ax.fill_between(x, lo, hi, color=style.get("color"), alpha=0.15, lw=0)
     for ax, what in zip(axes, ("angle error [deg]", "offset error"), strict=True):
         if log:
             ax.set_yscale("log")
         ax.set_xlabel("outliers [%]")
         ax.set_ylabel(what)
+
+
+def plot_error_cdf(ax, errors, name, *, order=0, of=1, cap=1e3, lw=1.8, n_marks=5):
+    """The empirical CDF of one method's errors, as a step curve in its book style.
+
+    Methods that share hypotheses and the refit often return the same estimates,
+    so their CDFs coincide. Each curve therefore has its method's line style and
+    a few markers, placed at different data points for each method (``order`` of
+    ``of``), so that every method stays visible where the curves overlap.
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes
+    errors : array_like of shape (N,)
+        One error per trial; ``inf`` (a failure) is drawn at ``cap``.
+    name : str
+        Method name; names in :data:`~clap_unified.viz.style.METHOD_STYLE` get
+        its colour, marker, line style and label.
+    order, of : int
+        This method's position among the ``of`` methods drawn on ``ax``: shifts
+        its markers so that coinciding curves show all of them.
+    cap : float
+        Errors above it (and failures) are drawn at it.
+    lw : float
+        Line width.
+    n_marks : int
+        About how many markers per curve.
+
+    Returns
+    -------
+    matplotlib.lines.Line2D
+
+    Examples
+    --------
+    >>> from matplotlib.figure import Figure
+    >>> ax = Figure().subplots()
+    >>> line = plot_error_cdf(ax, [0.3, 0.1, np.inf, 0.2], "clap")
+    >>> line.get_label(), float(line.get_ydata()[-1]), float(line.get_xdata()[-1])
+    ('CLAP', 1.0, 1000.0)
+    """
+    x = np.sort(np.minimum(np.asarray(errors, dtype=float), cap))
+    y = np.arange(1, len(x) + 1) / max(len(x), 1)
+    style = METHOD_STYLE.get(name, {"label": name})
+    step = max(1, len(x) // max(n_marks, 1))
+    start = (order * step) // max(of, 1)
+    (line,) = ax.step(x, y, where="post", color=style.get("color"),
+                      ls=style.get("linestyle", "-"), lw=lw, label=style["label"],
+                      marker=style.get("marker"), markevery=(start, step), ms=6,
+                      markerfacecolor="none", markeredgewidth=1.3)
+    return line
