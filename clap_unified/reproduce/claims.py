@@ -378,7 +378,7 @@ CLAIMS = [
           f"pairs than RANSAC is and breaks down (more than {BREAKDOWN:g}x the other's "
           f"distance) no more often; reproduced when closer on every data set, partly on one, "
           f"else not reproduced",
-          _judge_closer, "05_image_stitching",
+          _judge_closer, "05_homographies",
           reading="CLAP's homographies are closer to the ground truth than RANSAC's (the "
                   "paper's figures compare the two; its text does not say which wins)"),
     Claim("stitching_stable",
@@ -390,7 +390,7 @@ CLAIMS = [
           f"a data set when its spread is smaller (by more than {CLOSER:g}x) on more pairs "
           f"than RANSAC's is; reproduced when steadier on every data set, partly on one, "
           f"else not reproduced",
-          _judge_stability, "05_image_stitching",
+          _judge_stability, "05_homographies",
           reading="CLAP's estimate changes less than RANSAC's from one random seed to the next"),
     Claim("vpg_real_sre",
           "For the real-world subset (S13-S36) ... The two methods show similar accuracy.",
@@ -401,7 +401,7 @@ CLAIMS = [
           f"inlier ratios within {MARGIN:g}; reproduced when similar on most pairs with "
           f"confidence (the lower end of the Wilson 95 % interval of the share of similar "
           f"pairs is at least 0.5), partly when on at least half of them, else not reproduced",
-          _judge_real, "05_image_stitching"),
+          _judge_real, "05b_stitching"),
     Claim("stitching_outliers",
           "We explore applications of the framework in image processing tasks, image "
           "stitching, showing that clustering-based consistency checks improve robustness "
@@ -412,7 +412,7 @@ CLAIMS = [
           f"inliers (by more than {MARGIN:g}) on more pairs than RANSAC does and is closer to "
           f"the ground truth (by more than {CLOSER:g}x) on more pairs; partly: one of the two; "
           f"else not reproduced",
-          _judge_evd, "05_image_stitching"),
+          _judge_evd, "05_homographies"),
     Claim("2d_outliers",
           "CLAP is particularly recognized for its robustness against outliers, where "
           "clustering is employed to suppress noise and mitigate against erroneous feature "
