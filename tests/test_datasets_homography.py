@@ -196,7 +196,8 @@ for name in ("fox", "dum"):
 
 @needs_mirror
 def test_chapter_results_do_not_depend_on_the_openblas_thread_count():
-    """Chapter 5's (05_homographies) EVD experiment prints the same with one and with two OpenBLAS threads."""
+    """Chapter 5's (05_homographies) EVD experiment prints the same with one and with two
+    OpenBLAS threads."""
     import os
     import subprocess
     import sys
