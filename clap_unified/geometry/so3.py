@@ -71,14 +71,27 @@ def so3_vee(matrix) -> np.ndarray:
     return np.stack([m[..., 2, 1], m[..., 0, 2], m[..., 1, 0]], -1)
 
 
+#: Below this angle ``(t - sin t)/t^3`` and the ``V^-1`` coefficient, whose closed forms
+#: cancel catastrophically near 0, come from their Taylor series (truncation < 1e-22).
+_SERIES = 1e-2
+
+
 def _coefficients(theta):
-    """``sin(t)/t``, ``(1 - cos t)/t^2``, ``(t - sin t)/t^3`` with Taylor series near 0."""
+    """``sin(t)/t``, ``(1 - cos t)/t^2``, ``(t - sin t)/t^3``, accurate at every angle.
+
+    ``(1 - cos t)/t^2`` is computed as ``2 sin(t/2)^2 / t^2`` (no cancellation);
+    ``(t - sin t)/t^3`` by its Taylor series below :data:`_SERIES` (the closed
+    form loses every digit near ``t = 1e-5``).
+    """
     t2 = theta**2
     small = theta < _SMALL
     ts = np.where(small, 1.0, theta)
     a = np.where(small, 1 - t2 / 6, np.sin(ts) / ts)
-    b = np.where(small, 0.5 - t2 / 24, (1 - np.cos(ts)) / ts**2)
-    c = np.where(small, 1 / 6 - t2 / 120, (ts - np.sin(ts)) / ts**3)
+    b = np.where(small, 0.5 - t2 / 24, 2 * np.sin(ts / 2) ** 2 / ts**2)
+    series = theta < _SERIES
+    tc = np.where(series, 1.0, theta)
+    c = np.where(series, 1 / 6 - t2 / 120 + t2**2 / 5040 - t2**3 / 362880,
+                 (tc - np.sin(tc)) / tc**3)
     return a, b, c
 
 
@@ -183,7 +196,7 @@ def so3_left_jacobian_inverse(phi) -> np.ndarray:
     """Inverse of :func:`so3_left_jacobian` in closed form.
 
     ``V^-1 = I - K/2 + (1 - theta sin(theta) / (2 (1 - cos(theta)))) / theta^2 K^2``,
-    with the series ``1/12 + theta^2/720`` near 0; defined for ``theta < 2 pi``
+    with the series ``1/12 + theta^2/720 + ...`` below 0.01; defined for ``theta < 2 pi``
     (logarithms have ``theta <= pi``).
 
     Parameters
@@ -202,9 +215,10 @@ def so3_left_jacobian_inverse(phi) -> np.ndarray:
     phi = check_array(phi, "phi", shape=(Ellipsis, 3))
     theta = np.linalg.norm(phi, axis=-1)
     a, b, _ = _coefficients(theta)
-    small = theta < _SMALL
-    ts = np.where(small, 1.0, theta)
-    d = np.where(small, 1 / 12 + theta**2 / 720,
-                 (1 - a / (2 * np.where(small, 1.0, b))) / ts**2)
+    series = theta < _SERIES  # the closed form cancels catastrophically near 0
+    ts = np.where(series, 1.0, theta)
+    t2 = theta**2
+    d = np.where(series, 1 / 12 + t2 / 720 + t2**2 / 30240 + t2**3 / 1209600,
+                 (1 - a / (2 * np.where(series, 1.0, b))) / ts**2)
     K = so3_hat(phi)
     return np.eye(3) - 0.5 * K + d[..., None, None] * (K @ K)
