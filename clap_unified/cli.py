@@ -2,7 +2,7 @@
 
 Every command prints one JSON object on standard output (:data:`OUTPUT`) and exits with one
 of three statuses (:data:`EXIT_STATUS`, shown in every command's ``--help``; 130 when
-interrupted):
+interrupted, 74 when the result cannot be written, 141 when a pipe closed standard output):
 
 * 0: success;
 * 1: the estimate failed; the JSON has ``"success": false`` and a ``reason``;
@@ -25,6 +25,7 @@ from __future__ import annotations
 import argparse
 import importlib
 import json
+import os
 import sys
 import textwrap
 
@@ -49,6 +50,8 @@ COMMANDS = [
 
 #: Exit statuses, the same for every command.
 EXIT_OK, EXIT_FAILED, EXIT_BAD_INPUT = 0, 1, 2
+#: The result could not be written (a full disk); a closed pipe on standard output.
+EXIT_WRITE, EXIT_PIPE = 74, 141
 
 #: What the estimating commands print, as their ``--help`` shows it.
 OUTPUT = """\
@@ -65,7 +68,9 @@ exit status:
   2    bad input (missing, unreadable or malformed file, bad option value, size beyond the
        limits): one line on standard error names the argument and the reason; nothing on
        standard output, no output file written
+  74   the result could not be written to standard output (e.g. a full disk)
   130  interrupted (Ctrl-C)
+  141  standard output was closed by its reader (a pipe), nothing more is written
 
 A progress bar on standard error names the running stage (off with --quiet or when standard
 error is not a terminal)."""
@@ -293,8 +298,26 @@ def main(argv=None) -> int:
         print(f"clap-unified {command}: interrupted", file=sys.stderr)
         return 130
     args.progress.close()
-    print(json.dumps(out))
+    try:
+        print(json.dumps(out), flush=True)
+    except BrokenPipeError:  # the reader went away (`... | head`): nothing more to say
+        _silence_stdout()
+        return EXIT_PIPE
+    except OSError as exc:  # e.g. a full disk
+        _silence_stdout()
+        print(f"clap-unified {command}: error: cannot write the result ({_one_line(exc)})",
+              file=sys.stderr)
+        return EXIT_WRITE
     return EXIT_OK if out.get("success", True) else EXIT_FAILED
+
+
+def _silence_stdout() -> None:
+    """Point standard output at /dev/null, so that the interpreter's last flush cannot fail."""
+    try:
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+    except (OSError, ValueError, AttributeError):  # no file descriptor (captured output)
+        pass
 
 
 if __name__ == "__main__":

@@ -66,7 +66,8 @@ class LineTransfer(Line2D):
             raise ValueError("anchors: expected at least two distinct anchor points")
         centre = a.mean(axis=0)
         radius = float(np.sqrt(np.mean(np.sum((a - centre) ** 2, axis=1))))
-        super().__init__(length_scale=radius, origin=centre)
+        # the chart's scale only; tiny data (1e-300) underflow to 0
+        super().__init__(length_scale=max(radius, np.finfo(float).tiny), origin=centre)
         self.anchors = a
         self.anchors.setflags(write=False)
 

@@ -120,11 +120,25 @@ def stitch(left, right, H, *, blend: str = "feather") -> np.ndarray:
     if blend == "none":
         wl, wr = mask_l.astype(float), mask_r.astype(float)
     else:
-        wl = cv2.distanceTransform(mask_l.astype(np.uint8), cv2.DIST_L2, 3)
-        wr = cv2.distanceTransform(mask_r.astype(np.uint8), cv2.DIST_L2, 3)
+        wl, wr = _feather_weight(mask_l), _feather_weight(mask_r)
     total = wl + wr
     total[total == 0] = 1.0
     if base.ndim == 3:
         wl, wr, total = wl[..., None], wr[..., None], total[..., None]
     out = (base * wl + warped * wr) / total
     return np.clip(np.rint(out), 0, 255).astype(np.uint8)
+
+
+def _feather_weight(mask) -> np.ndarray:
+    """Distance of each pixel of ``mask`` to the nearest pixel outside it (feathering weights).
+
+    When the mask covers the whole canvas (one image inside the other) there is no pixel
+    outside and OpenCV returns huge distances that overflow the blend; the distance is then
+    measured to the canvas border.
+    """
+    import cv2
+
+    m = np.asarray(mask, dtype=np.uint8)
+    if m.all():
+        return cv2.distanceTransform(np.pad(m, 1), cv2.DIST_L2, 3)[1:-1, 1:-1]
+    return cv2.distanceTransform(m, cv2.DIST_L2, 3)

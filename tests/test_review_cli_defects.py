@@ -1,0 +1,59 @@
+"""Defects a review of the command line found, kept as regression tests."""
+
+import subprocess
+import sys
+
+import cv2
+import numpy as np
+
+from clap_unified.cli import EXIT_PIPE, EXIT_WRITE, main
+from clap_unified.fitting import fit_line
+from clap_unified.imaging.stitching import stitch
+
+
+def _line_csv(path, n=60, bom=False):
+    x = np.linspace(0, 10, n)
+    text = "\n".join(f"{a:.6f},{2 * a + 1:.6f}" for a in x) + "\n"
+    path.write_text(("\ufeff" if bom else "") + text, encoding="utf-8")
+    return path
+
+
+def test_a_byte_order_mark_does_not_eat_the_first_row(tmp_path, capsys):
+    # Excel's "CSV UTF-8" starts with a BOM: the first row was taken for a header
+    assert main(["fit", "line", str(_line_csv(tmp_path / "bom.csv", bom=True)), "-q"]) == 0
+    out = capsys.readouterr().out
+    assert '"data": 60' in out
+
+
+def test_tiny_coordinates_fit_or_fail_with_a_reason():
+    pts = np.c_[np.arange(1.0, 4.0), np.arange(2.0, 5.0)] * 1e-300
+    res = fit_line(pts, "clap", rng=0)
+    assert res.success or res.reason  # no ValueError about an internal parameter
+
+
+def test_a_closed_pipe_and_a_full_disk_are_no_traceback(tmp_path):
+    csv = _line_csv(tmp_path / "p.csv")
+    cmd = [sys.executable, "-m", "clap_unified", "fit", "line", str(csv), "-q"]
+    with open("/dev/full", "w") as full:
+        run = subprocess.run(cmd, stdout=full, stderr=subprocess.PIPE, text=True, timeout=120)
+    assert run.returncode == EXIT_WRITE, run.stderr
+    assert "Traceback" not in run.stderr and run.stderr.count("\n") == 1
+    with subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                          text=True) as proc:
+        proc.stdout.close()  # the reader goes away before the result is written
+        err = proc.stderr.read()
+        status = proc.wait(timeout=120)
+    assert status == EXIT_PIPE, err
+    assert "Traceback" not in err
+
+
+def test_feathering_an_image_inside_the_other_is_not_garbage():
+    g = np.random.default_rng(0)
+    left = cv2.resize(g.uniform(0, 255, (30, 40)).astype(np.uint8), (200, 150))
+    left = cv2.merge([left, left, left])
+    right = left[30:90, 40:140]
+    H = np.array([[1.0, 0, -40], [0, 1.0, -30], [0, 0, 1]])  # left to right: right is inside
+    with np.errstate(all="raise"):  # the blend overflowed to NaN
+        pano = stitch(left, right, H, blend="feather")
+    assert pano.shape[:2] == left.shape[:2]
+    assert np.abs(pano.astype(float)[: left.shape[0], : left.shape[1]] - left).mean() < 3
