@@ -81,8 +81,8 @@ _OWN_OUTPUT = {"clap-unified reproduce"}
 #: ``--hypotheses`` at most (CLAP on lines: 1000000 take about 5 s and 1 GB).
 MAX_HYPOTHESES = 1_000_000
 #: ``--hypotheses`` times the number of data at most (RANSAC scores every hypothesis on every
-#: datum: 10**9 take about 15 s).
-MAX_WORK = 1_000_000_000
+#: datum: 2 * 10**8 take about 3 s).
+MAX_WORK = 200_000_000
 
 
 class _Parser(argparse.ArgumentParser):

@@ -202,22 +202,26 @@ def run_clap(space, data, hypotheses: HypothesisSet, *, threshold: float, prior=
             full = manifold.pairwise_distance(np.concatenate([prior[None], models]))
             near = np.flatnonzero(full[0, 1:] <= radius)
             sub = full.take(near + 1, axis=0).take(near + 1, axis=1)
+            support = len(near)
         else:
             near = np.flatnonzero(space.near_prior(prior, models, radius))
+            support = len(near)
+            if support > DENSE_LIMIT:  # a giant cluster: centred on an even subset of it
+                near = near[np.linspace(0, support - 1, DENSE_LIMIT).astype(np.intp)]
             sub = manifold.pairwise_distance(models[near]) if centre == "medoid" else None
-        diag["near_prior"] = len(near)
-        if len(near) < min_support:
-            return Consensus.failed(f"only {len(near)} hypotheses within radius "
+        diag["near_prior"] = support
+        if support < min_support:
+            return Consensus.failed(f"only {support} hypotheses within radius "
                                     f"{describe_radius(radius)} of the prior "
                                     f"(min_support={min_support})", **diag)
         local = models[near]
         if centre == "medoid" and rejection == "trim":  # all from the one matrix
             b, keep = trimmed_medoid_index(sub, rounds=rounds, discard_fraction=discard_fraction)
-            clusters.append(Cluster(local[b], len(near), _median(sub[b, keep]), near[keep]))
+            clusters.append(Cluster(local[b], support, _median(sub[b, keep]), near[keep]))
         else:
             c, keep = _robust_centre(manifold, local, distances=sub, **robust)
             kept = np.flatnonzero(keep)
-            clusters.append(_cluster(manifold, c, local, kept, support=len(near),
+            clusters.append(_cluster(manifold, c, local, kept, support=support,
                                      members=near[kept]))
     else:
         index = np.arange(h)
@@ -232,10 +236,13 @@ def run_clap(space, data, hypotheses: HypothesisSet, *, threshold: float, prior=
             models = models[index]
             h = len(models)
         # Neighbour queries: a k-d tree when the manifold's embedding distance is its
-        # distance (no H x H matrix at any size), else one distance matrix when it fits
-        # in memory (~130 MB at 4000 hypotheses), else blocks recomputed on demand.
+        # distance (no H x H matrix at any size); else one distance matrix when it fits in
+        # memory (~130 MB at 4000 hypotheses); beyond, a k-d tree on an embedding that
+        # bounds the distance (candidates checked with the distance), else blocks
+        # recomputed on demand.
         tree = (EmbeddedNeighbours(manifold, models)
-                if getattr(manifold, "embedding_is_distance", False) else None)
+                if manifold.embedding_is_distance
+                or (manifold.embedding_bounds_distance and h > DENSE_LIMIT) else None)
         dist = manifold.pairwise_distance(models) if tree is None and h <= DENSE_LIMIT else None
         if bandwidth is not None:
             bw = bandwidth
@@ -245,13 +252,19 @@ def run_clap(space, data, hypotheses: HypothesisSet, *, threshold: float, prior=
             bw = auto_bandwidth(manifold, models, quantile=bandwidth_quantile, distances=dist)
         diag["bandwidth"] = bw
         if density == "knn":  # seeds by their k-th neighbour distance, any support
-            knn = (tree.knn(k) if tree is not None
-                   else knn_distance(manifold, models, k, distances=dist))
+            if tree is not None:
+                knn = np.full(h, np.inf)
+                seeds = tree.budget_rows(k)  # all, unless H is very large
+                knn[seeds] = tree.knn(k, seeds)
+            else:
+                knn = knn_distance(manifold, models, k, distances=dist)
             order = np.argsort(knn, kind="stable")
             counts = np.where(np.isfinite(knn), min_support, 0)
         else:
-            if tree is not None:
-                counts = tree.counts(bw)
+            if tree is not None:  # neighbourhoods of ~1 % of H at the bandwidth
+                counts = np.zeros(h, dtype=np.intp)
+                seeds = tree.budget_rows(max(3, int(np.ceil(0.01 * h))))
+                counts[seeds] = tree.counts(bw, seeds)
             elif dist is not None:
                 counts = np.count_nonzero(dist <= bw, axis=1)
             else:
@@ -267,7 +280,7 @@ def run_clap(space, data, hypotheses: HypothesisSet, *, threshold: float, prior=
                 near = tree.ball(seed, bw)
                 near = near[available[near]]
                 available[tree.ball(seed, suppress * bw)] = False
-                sub = tree.pairwise(near) if len(near) else None
+                sub = tree.pairwise(near) if 0 < len(near) <= DENSE_LIMIT else None
             else:
                 d_seed = (dist[seed] if dist is not None
                           else manifold.distance(models[seed], models))
@@ -276,6 +289,10 @@ def run_clap(space, data, hypotheses: HypothesisSet, *, threshold: float, prior=
                 sub = dist[np.ix_(near, near)] if dist is not None else None
             if len(near) < min_support:
                 continue
+            support = len(near)
+            if support > DENSE_LIMIT:  # a giant cluster: centred on an even subset of it
+                near = near[np.linspace(0, support - 1, DENSE_LIMIT).astype(np.intp)]
+                sub = tree.pairwise(near) if tree is not None else None
             if sub is not None and centre == "medoid" and rejection == "trim":
                 b, keep = trimmed_medoid_index(sub, rounds=rounds,
                                                discard_fraction=discard_fraction)
@@ -291,14 +308,14 @@ def run_clap(space, data, hypotheses: HypothesisSet, *, threshold: float, prior=
             # seed a second "possibility" that is the same answer
             if tree is not None:
                 available[tree.ball(centre_index, suppress * bw) if centre_index is not None
-                          else tree.ball_of(manifold.chordal_embedding(c), suppress * bw)] = False
+                          else tree.ball_of(c, suppress * bw)] = False
             else:
                 available &= d_centre > suppress * bw
             members = index[near[keep]]
-            clusters.append(_cluster(manifold, c, models, near[keep], support=len(near),
+            clusters.append(_cluster(manifold, c, models, near[keep], support=support,
                                      members=members)
                             if spread is None else
-                            Cluster(c, len(near), spread, members))
+                            Cluster(c, support, spread, members))
         if not clusters:
             return Consensus.failed(f"no cluster with at least {min_support} hypotheses within "
                                     f"bandwidth {bw:.3g}", **diag)

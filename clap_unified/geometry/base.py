@@ -54,6 +54,11 @@ class Manifold(ABC):
     #: ``chordal_embedding`` exist only where these are True.
     has_split_mean: bool = False
     has_chordal_embedding: bool = False
+    #: The Euclidean distance of two points' ``chordal_embedding`` equals their distance.
+    embedding_is_distance: bool = False
+    #: It is at most their distance: a k-d tree on the embedding then finds a superset of
+    #: every neighbourhood (:class:`~clap_unified.clap.density.EmbeddedNeighbours`).
+    embedding_bounds_distance: bool = False
     #: Short name used in reprs and figures.
     name: str = "manifold"
 

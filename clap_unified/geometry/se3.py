@@ -84,6 +84,9 @@ class SE3(MatrixLieGroup):
             self.reference_points = X
             self._moments = (X.mean(axis=0), X.T @ X / len(X))
         self.is_metric = metric != "lie"
+        #: The chordal embedding bounds the ``lie`` and ``relative`` distances below (not
+        #: ``point_set``).
+        self.embedding_bounds_distance = metric != "point_set"
 
     def __repr__(self) -> str:
         if self.metric == "lie":

@@ -23,6 +23,10 @@ from ..spaces.sampling import sample_subsets
 __all__ = ["ransac", "required_trials", "run_ransac", "score_hypotheses"]
 
 
+#: Residuals computed at once at most (one batch of hypotheses is scored in chunks).
+SCORE_BLOCK = 1_000_000
+
+
 def required_trials(inlier_ratio: float, sample_size: int, confidence: float) -> float:
     """Samples needed to draw one all-inlier sample with probability ``confidence``.
 
@@ -131,14 +135,18 @@ def run_ransac(space, data, hypotheses: HypothesisSet | None, *, threshold: floa
             idx = sample_subsets(n, m, k, rng=g)
             models, owner = space.solve_minimal(data, idx)
             degenerate += k - len(np.unique(owner))
-        if len(models):
-            r = space.residuals(models, data)
+        # score in chunks of at most SCORE_BLOCK residuals (memory stays bounded for
+        # many data); the samples drawn, hence the result, do not depend on it
+        step = max(1, SCORE_BLOCK // max(n, 1))
+        for c in range(0, len(models), step):
+            chunk = models[c:c + step]
+            r = space.residuals(chunk, data)
             s = score_hypotheses(r, t, score)
             j = int(np.argmax(s))
             if s[j] > best_score:
-                best_score, best_model, best_index = float(s[j]), models[j], scored + j
+                best_score, best_model, best_index = float(s[j]), chunk[j], scored + j
                 best_count = int(np.count_nonzero(r[j] < t))
-            scored += len(models)
+            scored += len(chunk)
         drawn += k
         if confidence is not None and best_model is not None:
             needed = required_trials(best_count / n, m, confidence)
