@@ -97,3 +97,23 @@ def test_fit_homography_in_a_large_unit_is_no_bad_input(tmp_path, capsys, method
     np.savetxt(csv, _homography_matches() * 1e4, delimiter=",")
     status = main(["fit", "homography", str(csv), "--method", method, "--threshold", "3e4", "-q"])
     assert status == 0, capsys.readouterr().err
+
+
+def test_reproduce_prints_no_progress_when_stderr_is_no_terminal(tmp_path):
+    # "reproduce: N experiment(s) to run ..." and "reproduce: finished in ..." went to a
+    # captured stderr; the summary is the JSON on stdout
+    cmd = [sys.executable, "-m", "clap_unified", "reproduce", "--quick", "--only",
+           "homography_homogr", "--out", str(tmp_path / "r")]
+    run = subprocess.run(cmd, capture_output=True, text=True, timeout=300)
+    assert run.returncode == 0, run.stderr
+    assert run.stderr == ""
+    assert '"ran": ["homography_homogr"]' in run.stdout
+
+
+@pytest.mark.parametrize("value", [",", "", "homography_homogr,,homography_evd", " , "])
+def test_reproduce_only_with_an_empty_name_is_bad_input(tmp_path, capsys, value):
+    # an empty selection ran nothing (or, for "", everything) with exit 0
+    status = main(["reproduce", "--quick", "--only", value, "--out", str(tmp_path / "r")])
+    err = capsys.readouterr().err
+    assert status == 2 and err.count("\n") == 1 and "--only" in err, err
+    assert not (tmp_path / "r").exists()
