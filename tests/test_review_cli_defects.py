@@ -117,3 +117,106 @@ def test_reproduce_only_with_an_empty_name_is_bad_input(tmp_path, capsys, value)
     err = capsys.readouterr().err
     assert status == 2 and err.count("\n") == 1 and "--only" in err, err
     assert not (tmp_path / "r").exists()
+
+
+def _run(argv, capsys):
+    status = main([str(a) for a in argv])
+    out, err = capsys.readouterr()
+    return status, out, err
+
+
+def _bad_input(argv, capsys):
+    """The one line on stderr of a command that must exit 2 (nothing on stdout)."""
+    status, out, err = _run(argv, capsys)
+    assert status == 2 and out == "" and err.count("\n") == 1, (status, out, err)
+    return err
+
+
+def _obs2d(path, extra=()):
+    """Every landmark within 6 m of a robot at (-1.2, 3.4, 0.1), in its frame, plus ``extra``."""
+    import json
+    import math
+
+    from clap_unified.localization import load_field
+
+    field, (x, y, theta) = load_field("adult"), (-1.2, 3.4, 0.1)
+    c, s = math.cos(theta), math.sin(theta)
+    obs = [{"type": str(t), "x": c * (px - x) + s * (py - y), "y": -s * (px - x) + c * (py - y)}
+           for t, (px, py) in zip(field.types, field.positions, strict=True)
+           if math.hypot(px - x, py - y) < 6]
+    path.write_text(json.dumps(obs + list(extra)))
+    return path
+
+
+def test_an_unknown_option_names_the_command(tmp_path, capsys):
+    csv = _line_csv(tmp_path / "p.csv")
+    err = _bad_input(["fit", "line", csv, "--bogus"], capsys)
+    assert err == "clap-unified fit line: error: unrecognized arguments: --bogus\n"
+    err = _bad_input(["reproduce", "--only", "homography_homogr", "-x", "1"], capsys)
+    assert err == "clap-unified reproduce: error: unrecognized arguments: -x 1\n"
+
+
+def test_an_empty_path_is_said_to_be_empty(capsys):
+    err = _bad_input(["fit", "line", ""], capsys)
+    assert "empty path" in err and "folder" not in err
+
+
+def test_json_entries_are_named_one_way_and_missing_keys_as_missing(tmp_path, capsys):
+    f = tmp_path / "o.json"
+    f.write_text('[{"type": "zz", "x": 1, "y": 2}]')
+    assert ": entry 0: unknown type 'zz'" in _bad_input(["localize2d", f], capsys)
+    f.write_text('[{"type": "L", "x": 1}]')
+    err = _bad_input(["localize2d", f], capsys)
+    assert ': entry 0: missing "y"' in err and "None" not in err
+    world = tmp_path / "map.json"
+    world.write_text('[{"type": "tree", "x": 0, "y": 0, "z": 0}, {"type": "post", "x": 1, '
+                     '"y": 0, "z": 0}, {"type": "post", "x": 0, "y": 1, "z": 0}]')
+    f.write_text('[{"type": "rock", "x": 1, "y": 2, "z": 0}]')
+    err = _bad_input(["localize3d", f, "--map", world], capsys)
+    assert ": entry 0: unknown type 'rock'; expected one of ['post', 'tree']" in err, err
+    assert "np.str_" not in err
+
+
+def test_library_observation_messages_say_entry():
+    from clap_unified.spaces.landmarks2d import observations_array
+
+    with pytest.raises(ValueError, match=r"^observations: entry 1: unknown type 'zz'"):
+        observations_array([{"type": "L", "x": 0, "y": 0}, {"type": "zz", "x": 0, "y": 0}])
+
+
+@pytest.mark.parametrize("prior", ["-1.2,3.4,0.1,", "-1.2,3.4", "-1.2,x,0"])
+def test_a_malformed_negative_prior_says_three_numbers(tmp_path, capsys, prior):
+    # "-1.2,3.4,0.1," was taken for an option: "argument --prior: expected one argument"
+    err = _bad_input(["localize2d", _obs2d(tmp_path / "o.json"), "--prior", prior], capsys)
+    assert "argument --prior: expected X,Y,THETA: three comma-separated numbers" in err
+
+
+def test_huge_ranges_warn_of_no_overflow(tmp_path, capsys):
+    # a detection at 1e149 m (within the readers' limit) overflowed the range-noise weight
+    obs = _obs2d(tmp_path / "o.json", [{"type": "L", "x": 1e149, "y": -1e149}])
+    for method in ("clap", "ransac", "randomized_hough"):
+        status, _, err = _run(["localize2d", obs, "--method", method, "-q"], capsys)
+        assert status in (0, 1) and err == "", err
+
+
+def test_an_image_with_a_huge_header_is_one_clear_line(tmp_path, capsys):
+    big = tmp_path / "big.pgm"
+    big.write_bytes(b"P5\n100000000 100000000\n255\n" + bytes(16))
+    right = tmp_path / "r.png"
+    cv2.imwrite(str(right), np.zeros((20, 20, 3), np.uint8))
+    err = _bad_input(["stitch", big, right, "-o", tmp_path / "p.png"], capsys)
+    assert err == (f"clap-unified stitch: error: LEFT: {big}: more than 25,000,000 pixels "
+                   "(100000000 x 100000000)\n")
+
+
+def test_stitch_does_not_overwrite_an_input(tmp_path, capsys):
+    g = np.random.default_rng(0)
+    left, right = tmp_path / "L.png", tmp_path / "R.png"
+    image = (g.random((120, 160, 3)) * 255).astype(np.uint8)
+    cv2.imwrite(str(left), image)
+    cv2.imwrite(str(right), image[:, 20:])
+    before = left.read_bytes()
+    for out, name in ((left, "LEFT"), (tmp_path / "." / "R.png", "RIGHT")):
+        err = _bad_input(["stitch", left, right, "-o", out], capsys)
+        assert "--output" in err and name in err
+    assert left.read_bytes() == before
