@@ -28,10 +28,18 @@ def test_a_byte_order_mark_does_not_eat_the_first_row(tmp_path, capsys):
     assert '"data": 60' in out
 
 
-def test_tiny_coordinates_fit_or_fail_with_a_reason():
-    pts = np.c_[np.arange(1.0, 4.0), np.arange(2.0, 5.0)] * 1e-300
-    res = fit_line(pts, "clap", rng=0)
-    assert res.success or res.reason  # no ValueError about an internal parameter
+@pytest.mark.parametrize("scale", [1e-300, 1e-200, 1e-100, 1e-20, 1e-5])
+@pytest.mark.parametrize("method", ["clap", "ransac", "randomized_hough"])
+def test_tiny_coordinates_are_fitted(scale, method):
+    # at 1e-300 a ValueError named an internal length_scale; then every minimal sample was
+    # "degenerate" below 1e-12 (an absolute tolerance), and the refit's covariance underflowed
+    x = np.arange(1.0, 11.0)
+    res = fit_line(np.c_[x, 2 * x + 1] * scale, method, rng=0)
+    assert res.success, res.reason
+    model = res.to_dict()["model"]
+    (a, b), c = model["normal"], model["offset"]
+    assert -a / b == pytest.approx(2, rel=1e-9) and c / b / scale == pytest.approx(1, rel=1e-9)
+    assert res.n_inliers == 10
 
 
 def test_a_closed_pipe_and_a_full_disk_are_no_traceback(tmp_path):
