@@ -229,11 +229,12 @@ def _fit_line(args) -> dict:
 
 
 def _is_number_list(text: str) -> bool:
-    """A value starting with ``-`` that is a number or comma-separated numbers (``-1.2,3,0``)."""
+    """A value starting with ``-`` whose first comma-separated item is a number (``-1.2,3,0``;
+    also ``-1.2,3,`` or ``-1,x``, which the option's own check then refuses, by name)."""
     if not text.startswith("-") or text == "-":
         return False
     try:
-        [float(v) for v in text.split(",")]
+        float(text.split(",")[0])
     except ValueError:
         return False
     return True
@@ -279,10 +280,13 @@ def main(argv=None) -> int:
     argv = sys.argv[1:] if argv is None else [str(a) for a in argv]
     parser = build_parser()
     try:
-        args = parser.parse_args(_join_negative_values(argv, _value_options(parser)))
+        args, unknown = parser.parse_known_args(_join_negative_values(argv, _value_options(parser)))
+        command = " ".join(filter(None, [args.command, getattr(args, "kind", None)]))
+        if unknown:  # said by the command's parser, which names the command
+            leaf = next(p for p in _leaves(parser) if p.prog == f"clap-unified {command}")
+            leaf.error(f"unrecognized arguments: {' '.join(unknown)}")
     except SystemExit as exc:  # --help, --version, or a usage error (already printed)
         return exc.code if isinstance(exc.code, int) else EXIT_BAD_INPUT
-    command = " ".join(filter(None, [args.command, getattr(args, "kind", None)]))
     quiet = args.quiet or getattr(args, "no_progress", False)
     args.progress = _Progress(command, enabled=not quiet and sys.stderr.isatty())
     try:

@@ -37,7 +37,8 @@ def check_input_file(path, what: str = "") -> Path:
     Raises
     ------
     ValueError
-        Naming the file: missing, a folder or another non-regular file, too large.
+        Naming the file: an empty path, missing, a folder or another non-regular file, too
+        large.
 
     Examples
     --------
@@ -49,8 +50,10 @@ def check_input_file(path, what: str = "") -> Path:
     ...         print(str(exc).split(": ", 1)[1])
     is a folder; expected the map file
     """
-    path = Path(path)
     kind = f"{what} file" if what else "file"
+    if not str(path):  # Path("") is ".", the current folder
+        raise ValueError(f"'': an empty path; expected the {kind}")
+    path = Path(path)
     if not path.exists():
         raise ValueError(f"{path}: no such {kind}")
     if path.is_dir():
@@ -249,8 +252,8 @@ def read_json_list(path, *, what: str = "", item: str = '{"type", "x", "y"}',
     return doc
 
 
-def read_typed_points(path, coords: str = "xy", *, what: str = "",
-                      max_items: int = MAX_ITEMS) -> tuple[list[str], np.ndarray]:
+def read_typed_points(path, coords: str = "xy", *, what: str = "", max_items: int = MAX_ITEMS,
+                      types=None) -> tuple[list[str], np.ndarray]:
     """Types and coordinates from a JSON list of ``{"type", "x", "y"[, "z"]}`` objects.
 
     Strict: ``type`` a non-empty string, each coordinate a JSON number (not a string, not
@@ -265,6 +268,8 @@ def read_typed_points(path, coords: str = "xy", *, what: str = "",
         What the file is (``"observations"``, ``"map"``), for the messages.
     max_items : int
         Longer lists are refused.
+    types : sequence of str, optional
+        The known types: another is refused.
 
     Returns
     -------
@@ -274,7 +279,7 @@ def read_typed_points(path, coords: str = "xy", *, what: str = "",
     Raises
     ------
     ValueError
-        Naming the file and, for a bad entry, its index and key.
+        Naming the file and, for a bad entry, its index (``entry 3``) and key.
 
     Examples
     --------
@@ -292,18 +297,25 @@ def read_typed_points(path, coords: str = "xy", *, what: str = "",
     item = "{" + ", ".join(f'"{k}"' for k in ("type", *coords)) + "}"
     path = Path(path)
     doc = read_json_list(path, what=what, item=item, max_items=max_items)
-    types, rows = [], []
+    kinds, rows = [], []
     for i, entry in enumerate(doc):
         if not isinstance(entry, dict):
             raise ValueError(f"{path}: entry {i}: expected a {item} object, got "
                              f"{_short(entry)}")
-        kind = entry.get("type")
+        missing = [k for k in ("type", *coords) if k not in entry]
+        if missing:
+            raise ValueError(f"{path}: entry {i}: missing " + ", ".join(f'"{k}"' for k in missing)
+                             + f" (expected a {item} object)")
+        kind = entry["type"]
         if not isinstance(kind, str) or not kind:
             raise ValueError(f"{path}: entry {i}: \"type\" must be a non-empty string, got "
                              f"{_short(kind)}")
+        if types is not None and kind not in types:
+            raise ValueError(f"{path}: entry {i}: unknown type {kind!r}; expected one of "
+                             f"{list(types)}")
         row = []
         for k in coords:
-            v = entry.get(k)
+            v = entry[k]
             if isinstance(v, bool) or not isinstance(v, int | float):
                 raise ValueError(f"{path}: entry {i}: \"{k}\" must be a number, got "
                                  f"{_short(v)}")
@@ -312,6 +324,6 @@ def read_typed_points(path, coords: str = "xy", *, what: str = "",
                 raise ValueError(f"{path}: entry {i}: \"{k}\" must be finite and within "
                                  f"+-{MAX_MAGNITUDE:.0e}, got {_short(entry.get(k))}")
             row.append(v)
-        types.append(kind)
+        kinds.append(kind)
         rows.append(row)
-    return types, np.array(rows, dtype=float).reshape(-1, len(coords))
+    return kinds, np.array(rows, dtype=float).reshape(-1, len(coords))

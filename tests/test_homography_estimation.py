@@ -131,8 +131,10 @@ def test_frame_distances_match_the_exact_lie_distance():
     near = D < 0.5
     np.testing.assert_allclose(D_screened[near], D[near], rtol=1e-9, atol=1e-12)
     # pairwise agrees with distance, and the first-order metric agrees to second order
+    # (atol: a hypothesis with condition number ~3e3 in the frame is 8e-12 from itself
+    # through logm(inv(B) A))
     np.testing.assert_allclose(exact.distance(hs.models[:, None], hs.models[None]), D,
-                               rtol=1e-9, atol=1e-12)
+                               rtol=1e-9, atol=1e-10)
     lin = HomographySpace.for_data(data).manifold.pairwise_distance(hs.models)
     small = (D < 0.05) & (D > 0)
     assert np.all(np.abs(lin[small] - D[small]) <= D[small] ** 2 + 1e-12)

@@ -26,7 +26,7 @@ __all__ = ["Homography", "frobenius_distance", "lie_distance", "normalise_h33"]
 _ZERO = 1e-12
 
 
-def normalise_h33(H, name: str = "H") -> np.ndarray:
+def normalise_h33(H, name: str = "H", *, check_invertible: bool = True) -> np.ndarray:
     """Scale homographies so that ``H[2, 2] = 1``.
 
     Parameters
@@ -34,6 +34,10 @@ def normalise_h33(H, name: str = "H") -> np.ndarray:
     H : ndarray of shape (..., 3, 3)
     name : str
         Argument name used in error messages.
+    check_invertible : bool
+        Refuse singular matrices (Hadamard's bound, below). A caller that tests
+        invertibility in a better-conditioned frame (the data's normalised frame)
+        passes False.
 
     Returns
     -------
@@ -44,7 +48,8 @@ def normalise_h33(H, name: str = "H") -> np.ndarray:
     ValueError
         Naming ``name``, when ``H`` is not a stack of finite 3 x 3 matrices or
         some ``|H[2, 2]|`` is zero or below ``1e-12 max |H_ij|`` (no such
-        scaling exists; never a silent division by zero).
+        scaling exists; never a silent division by zero), or some matrix is
+        singular (``check_invertible``).
 
     Examples
     --------
@@ -57,7 +62,8 @@ def normalise_h33(H, name: str = "H") -> np.ndarray:
     if np.any(bad):
         raise ValueError(f"{name}: H[2, 2] is zero in {int(bad.sum())} matrix(es), "
                          "cannot normalise so that H33 = 1")
-    _check_invertible(H, name)
+    if check_invertible:
+        _check_invertible(H, name)
     return H / h33[..., None, None]
 
 

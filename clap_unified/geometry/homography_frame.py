@@ -70,6 +70,26 @@ def _first_order(Ainv, A, B, Binv) -> np.ndarray:
     return out
 
 
+def _frame_inverse(T, name: str) -> np.ndarray:
+    """The inverse of a normalising transform ``T``; ``ValueError`` naming ``name`` if it has none.
+
+    A frame is a change of coordinates, not a homography between images: a Hartley
+    normalisation ``[[s, 0, -s cx], [0, s, -s cy], [0, 0, 1]]`` of points far from the origin
+    (``|c| s`` of order one, ``s`` tiny) has a determinant far below Hadamard's bound, yet an
+    exact inverse. So ``T`` is refused only when its inverse is not finite or does not undo it
+    (``T T^-1 = I`` to ``1e-8``).
+    """
+    with np.errstate(all="ignore"):
+        try:
+            Tinv = np.linalg.inv(T)
+        except np.linalg.LinAlgError:
+            Tinv = np.full((3, 3), np.nan)
+        ok = np.all(np.isfinite(Tinv)) and np.allclose(T @ Tinv, np.eye(3), rtol=0, atol=1e-8)
+    if not ok:
+        raise ValueError(f"{name}: a singular matrix (det = 0), not a change of frame")
+    return Tinv
+
+
 def _det_adjugate(M):
     """Determinants and adjugates of ``(..., 3, 3)`` matrices from row cross products."""
     r0, r1, r2 = M[..., 0, :], M[..., 1, :], M[..., 2, :]
@@ -115,10 +135,8 @@ class HomographyInFrame(Homography):
         super().__init__(normalization=normalization)
         self.T1 = check_array(T1, "T1", shape=(3, 3))
         self.T2 = check_array(T2, "T2", shape=(3, 3))
-        _check_invertible(self.T1, "T1")
-        _check_invertible(self.T2, "T2")
-        self.T1inv = np.linalg.inv(self.T1)
-        self.T2inv = np.linalg.inv(self.T2)
+        self.T1inv = _frame_inverse(self.T1, "T1")
+        self.T2inv = _frame_inverse(self.T2, "T2")
         self.metric = check_choice(metric, "metric", {"lie", "lie_linear", "frobenius"})
         self.screen = float(screen)
         if not self.screen > 0:  # np.inf allowed: every logarithm exact
@@ -130,8 +148,15 @@ class HomographyInFrame(Homography):
 
     # ------------------------------------------------------------ frames
     def projection(self, points, name: str = "H") -> np.ndarray:
-        """Pixel homographies scaled to ``H33 = 1``."""
-        return normalise_h33(points, name)
+        """Pixel homographies scaled to ``H33 = 1``, refused if singular in the frame.
+
+        Invertibility is judged on ``T2 H T1^-1``: in pixels, coordinates far from the
+        origin (or in a small unit) give a valid homography a translation column so large
+        that its determinant falls below any bound relative to its entries.
+        """
+        H = normalise_h33(points, name, check_invertible=False)
+        _check_invertible(self.T2 @ H @ self.T1inv, name)
+        return H
 
     def to_frame(self, H, name: str = "H") -> np.ndarray:
         """Normalised-frame representatives ``T2 H T1^-1`` of pixel homographies."""
@@ -150,8 +175,10 @@ class HomographyInFrame(Homography):
         return A, adj * (h / det[..., None, None])
 
     def from_frame(self, Hn, name: str = "H") -> np.ndarray:
-        """Pixel homographies ``T2^-1 Hn T1`` with ``H33 = 1``."""
-        return normalise_h33(self.T2inv @ np.asarray(Hn) @ self.T1, name)
+        """Pixel homographies ``T2^-1 Hn T1`` with ``H33 = 1`` (``Hn`` invertible)."""
+        Hn = check_array(Hn, name, shape=(Ellipsis, 3, 3))
+        _check_invertible(Hn, name)
+        return normalise_h33(self.T2inv @ Hn @ self.T1, name, check_invertible=False)
 
     # ------------------------------------------------------------ chart
     def log(self, point, base_point) -> np.ndarray:

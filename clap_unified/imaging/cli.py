@@ -153,15 +153,16 @@ def _header_size(path: Path):
         from PIL import Image
     except ImportError:  # pragma: no cover - Pillow comes with matplotlib
         return None
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")  # Pillow warns of large images: we check ourselves
-        try:
+    bomb, Image.MAX_IMAGE_PIXELS = Image.MAX_IMAGE_PIXELS, None  # the size, whatever it is:
+    try:  # the header alone is read, and the caller compares it with its own limit
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
             with Image.open(path) as im:
                 return im.size
-        except Image.DecompressionBombError:  # over 179 megapixels
-            return (MAX_IMAGE_PIXELS + 1, 1)
-        except Exception:  # not an image Pillow knows: OpenCV decides
-            return None
+    except Exception:  # not an image Pillow knows: OpenCV decides
+        return None
+    finally:
+        Image.MAX_IMAGE_PIXELS = bomb
 
 
 def stitch_command(args) -> dict:
@@ -178,6 +179,10 @@ def stitch_command(args) -> dict:
     if not cv2.haveImageWriter(str(out)):
         raise ValueError(f"--output: {out}: OpenCV cannot write images with this extension "
                          "(use .png or .jpg)")
+    for name, image in (("LEFT", args.left), ("RIGHT", args.right)):
+        if out.exists() and Path(image).exists() and os.path.samefile(out, image):
+            raise ValueError(f"--output: {out} is the {name} image; give another file for the "
+                             "panorama")
     args.progress.stage("reading images")
     left = read_image_checked(args.left, "LEFT")
     right = read_image_checked(args.right, "RIGHT")

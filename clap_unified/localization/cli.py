@@ -30,15 +30,12 @@ def read_observations(path):
         non-finite coordinates; the message names the file.
     """
     path = Path(path)
-    types, xy = read_typed_points(path, "xy", what="observations", max_items=MAX_DETECTIONS)
+    types, xy = read_typed_points(path, "xy", what="observations", max_items=MAX_DETECTIONS,
+                                  types=LANDMARK_TYPES)
     if not types:
         raise ValueError(f"{path}: no detections (an empty list)")
-    try:
-        data = observation_data([{"type": t, "x": x, "y": y}
-                                 for t, (x, y) in zip(types, xy, strict=True)])
-    except ValueError as exc:
-        raise ValueError(f"{path}: {exc}") from None
-    return data
+    return observation_data([{"type": t, "x": x, "y": y}
+                             for t, (x, y) in zip(types, xy, strict=True)])
 
 
 def _prior(text):
@@ -49,7 +46,8 @@ def _prior(text):
         x, y, theta = (float(v) for v in text.split(","))
     except ValueError:
         raise argparse.ArgumentTypeError(
-            f"expected X,Y,THETA (metres, metres, radians), got {text!r}") from None
+            f"expected X,Y,THETA: three comma-separated numbers (metres, metres, radians), "
+            f"got {text!r}") from None
     if not np.all(np.isfinite([x, y, theta])):
         raise argparse.ArgumentTypeError(f"expected finite numbers, got {text!r}")
     return x, y, theta

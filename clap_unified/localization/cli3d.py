@@ -29,13 +29,10 @@ def _localize3d(args) -> dict:
     space = landmarks.space()
     args.progress.stage("reading detections")
     obs_types, obs_xyz = read_landmarks_json(args.observations, "observations",
-                                             max_items=MAX_DETECTIONS)
+                                             max_items=MAX_DETECTIONS, types=space.type_names)
     if not obs_types.size:
         raise ValueError(f"{args.observations}: no detections (an empty list)")
-    try:
-        ids = [space.type_id(t) for t in obs_types]
-    except ValueError as exc:
-        raise ValueError(f"{args.observations}: {exc}") from None
+    ids = [space.type_id(t) for t in obs_types]
     data = np.c_[np.asarray(ids, dtype=float), obs_xyz].reshape(-1, 4)
     args.progress.stage(f"localizing ({args.method})")
     res = localize3d(data, landmarks, method=args.method, space=space, rng=args.seed)

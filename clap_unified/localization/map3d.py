@@ -102,8 +102,8 @@ def lab_map(size: str = "adult", *, markers: bool = True) -> LandmarkMap3D:
     return LandmarkMap3D(np.array(types), np.array(pos), name=f"lab-{size}")
 
 
-def read_landmarks_json(path, what: str = "map", *,
-                        max_items: int = MAX_ITEMS) -> tuple[np.ndarray, np.ndarray]:
+def read_landmarks_json(path, what: str = "map", *, max_items: int = MAX_ITEMS,
+                        types=None) -> tuple[np.ndarray, np.ndarray]:
     """Types ``(M,)`` and positions ``(M, 3)`` from a JSON list of ``{"type", "x", "y", "z"}``.
 
     Raises
@@ -111,7 +111,8 @@ def read_landmarks_json(path, what: str = "map", *,
     ValueError
         Missing or unreadable file, a folder, invalid JSON, not a list, more than
         ``max_items`` entries, a missing, non-numeric or non-finite coordinate, a type that
-        is not a string; the message names the file and the entry.
+        is not a string or not one of ``types`` (if given); the message names the file and
+        the entry.
     """
-    types, pos = read_typed_points(path, "xyz", what=what, max_items=max_items)
-    return np.array(types, dtype=str), pos
+    names, pos = read_typed_points(path, "xyz", what=what, max_items=max_items, types=types)
+    return np.array(names, dtype=str), pos

@@ -24,6 +24,17 @@ def _jobs(text: str) -> int:
     return value
 
 
+def _names(text: str) -> list[str]:
+    """``--only``: comma-separated names, none empty (``a,,b``, ``,`` and ``""`` are refused)."""
+    import argparse
+
+    names = [s.strip() for s in text.split(",")]
+    if not all(names):
+        raise argparse.ArgumentTypeError(f"expected comma-separated experiment names, got "
+                                         f"{text!r} (an empty name)")
+    return names
+
+
 def register(sub) -> None:
     """Add ``reproduce``."""
     p = sub.add_parser(
@@ -48,7 +59,7 @@ def register(sub) -> None:
     p.add_argument("--allow-missing", action="store_true",
                    help="mark claims whose data set is missing 'data unavailable' instead of "
                         "stopping")
-    p.add_argument("--only", default=None, metavar="NAMES",
+    p.add_argument("--only", type=_names, default=None, metavar="NAMES",
                    help="comma-separated experiments to run (the other claims become "
                         "'data unavailable')")
     p.add_argument("--no-progress", action="store_true", help="no progress bars")
@@ -58,10 +69,12 @@ def register(sub) -> None:
 def _run(args) -> dict:
     from . import reproduce
 
-    only = [s.strip() for s in args.only.split(",") if s.strip()] if args.only else None
+    # bars and the expected / measured time on standard error only where they are
+    # progress: a terminal, not --quiet or --no-progress (the summary is the JSON)
+    shown = args.progress.enabled
     res = reproduce(Path(args.out), quick=args.quick, jobs=args.jobs, scheduler=args.scheduler,
-                    force=args.force, allow_missing=args.allow_missing, only=only,
-                    progress=not (args.no_progress or args.quiet))
+                    force=args.force, allow_missing=args.allow_missing, only=args.only,
+                    progress=shown, log=None if shown else (lambda s: None))
     return {"out": str(res.out), "claims": {c["key"]: c["verdict"] for c in res.claims},
             "ran": res.ran, "reused": res.reused, "skipped": res.skipped,
             "seconds": round(res.seconds, 1), "success": True}

@@ -488,14 +488,24 @@ class HomographySpace(HypothesisSpace):
         owner = np.flatnonzero(ok)
         H = H[..., owner] / h33[owner]
         # near-singular models (a sample close to degenerate) are no homography:
-        # |det H| against Hadamard's bound (the product of the row norms), a
-        # scale-free ratio in [0, 1], compared squared; a non-finite entry makes
-        # the comparison false
+        # |det G| against Hadamard's bound (the product of the row norms), a
+        # ratio in [0, 1] free of H's scale, compared squared; a non-finite entry
+        # makes the comparison false. G is H in the frame where the manifold compares
+        # hypotheses: pixels for this class's own manifold, else the data's Hartley
+        # frame T2 H T1^-1, where the test depends neither on the data's unit nor on
+        # its origin (in pixels the translation column grows with the coordinates, and
+        # the bound with it: at a unit of 1e-6 pixel every hypothesis would fail)
         with np.errstate(all="ignore"):
-            det = (H[0, 0] * (H[1, 1] * H[2, 2] - H[1, 2] * H[2, 1])
-                   - H[0, 1] * (H[1, 0] * H[2, 2] - H[1, 2] * H[2, 0])
-                   + H[0, 2] * (H[1, 0] * H[2, 1] - H[1, 1] * H[2, 0]))
-            rows2 = np.sum(H * H, axis=1)
+            G = H
+            if self._manifold is not None:
+                (c1x, c1y), (c2x, c2y) = c[0], c[1]
+                K = np.stack([H[:, 0], H[:, 1], H[:, 0] * (c1x * s1) + H[:, 1] * (c1y * s1)
+                              + H[:, 2] * s1], axis=1)  # s1 H T1^-1
+                G = np.stack([K[0] - c2x * K[2], K[1] - c2y * K[2], K[2] / s2])  # T2 K / s2
+            det = (G[0, 0] * (G[1, 1] * G[2, 2] - G[1, 2] * G[2, 1])
+                   - G[0, 1] * (G[1, 0] * G[2, 2] - G[1, 2] * G[2, 0])
+                   + G[0, 2] * (G[1, 0] * G[2, 1] - G[1, 1] * G[2, 0]))
+            rows2 = np.sum(G * G, axis=1)
             keep = det * det > SINGULAR_RATIO**2 * (rows2[0] * rows2[1] * rows2[2])
         return np.ascontiguousarray(np.moveaxis(H[..., keep], -1, 0)), owner[keep]
 

@@ -40,10 +40,10 @@ def observations_array(observations) -> np.ndarray:
         try:
             kind, x, y = ob["type"], float(ob["x"]), float(ob["y"])
         except (KeyError, TypeError, ValueError):
-            raise ValueError(f"observations[{i}]: expected {{'type', 'x', 'y'}} with numbers, "
-                             f"got {ob!r}") from None
+            raise ValueError(f"observations: entry {i}: expected {{'type', 'x', 'y'}} with "
+                             f"numbers, got {ob!r}") from None
         if kind not in LANDMARK_TYPES:
-            raise ValueError(f"observations[{i}]: unknown type {kind!r}; expected one of "
+            raise ValueError(f"observations: entry {i}: unknown type {kind!r}; expected one of "
                              f"{list(LANDMARK_TYPES)}")
         rows.append([LANDMARK_TYPES.index(kind), x, y])
     return np.array(rows, dtype=float).reshape(-1, 3)
@@ -372,7 +372,8 @@ class Landmark2DSpace(HypothesisSpace):
         if self.range_noise is None:
             return w
         r2 = np.einsum("ij,ij->i", data[:, 1:], data[:, 1:])
-        return w / (self.range_noise[0] + self.range_noise[1] * r2) ** 2
+        with np.errstate(over="ignore"):  # a range beyond ~1e77 m: sigma inf, weight 0
+            return w / (self.range_noise[0] + self.range_noise[1] * r2) ** 2
 
     @staticmethod
     def _kabsch(src, target, w):

@@ -121,8 +121,8 @@ class Landmark3DSpace(HypothesisSpace):
         try:
             return self.type_names.index(str(name))
         except ValueError:
-            raise ValueError(f"type: {name!r} is not a landmark type of the map; expected one "
-                             f"of {list(self.type_names)}") from None
+            raise ValueError(f"type: {str(name)!r} is not a landmark type of the map; "
+                             f"expected one of {list(self.type_names)}") from None
 
     def observations_array(self, observations) -> np.ndarray:
         """``(N, 4)`` rows ``(type_id, x, y, z)`` from ``{"type", "x", "y", "z"}`` dicts.
@@ -138,12 +138,12 @@ class Landmark3DSpace(HypothesisSpace):
             try:
                 kind, x, y, z = ob["type"], float(ob["x"]), float(ob["y"]), float(ob["z"])
             except (KeyError, TypeError, ValueError):
-                raise ValueError(f"observations[{i}]: expected {{'type', 'x', 'y', 'z'}} with "
-                                 f"numbers, got {ob!r}") from None
+                raise ValueError(f"observations: entry {i}: expected {{'type', 'x', 'y', 'z'}} "
+                                 f"with numbers, got {ob!r}") from None
             try:
                 rows.append([self.type_id(kind), x, y, z])
             except ValueError as exc:
-                raise ValueError(f"observations[{i}]: {exc}") from None
+                raise ValueError(f"observations: entry {i}: {exc}") from None
         return check_array(np.array(rows, dtype=float).reshape(-1, 4), "observations")
 
     def check_data(self, data) -> np.ndarray:

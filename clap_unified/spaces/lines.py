@@ -98,9 +98,11 @@ class LineSpace(HypothesisSpace):
         p = data[samples[:, 0]]
         q = data[samples[:, 1]]
         d = q - p
-        length = np.linalg.norm(d, axis=1)
-        scale = max(float(np.max(np.abs(data))), 1.0)
-        ok = length > 1e-12 * scale
+        length = np.hypot(d[:, 0], d[:, 1])  # no underflow of the squares at 1e-300
+        # degenerate: the two points coincide to the precision of their own coordinates,
+        # whatever the data's unit
+        extent = np.maximum(np.abs(p).max(axis=1), np.abs(q).max(axis=1))
+        ok = length > 1e-12 * extent
         normal = np.stack([-d[ok, 1], d[ok, 0]], axis=1) / length[ok, None]
         offset = np.sum(normal * p[ok], axis=1)
         return Line2D.from_normal_offset(normal, offset), np.flatnonzero(ok)
@@ -113,10 +115,15 @@ class LineSpace(HypothesisSpace):
             return None
         x, w = data[keep], w[keep]
         centre = (w[:, None] * x).sum(axis=0) / w.sum()
-        cov = ((x - centre).T * w) @ (x - centre) / w.sum()
+        dev = x - centre
+        spread = float(np.max(np.abs(dev)))
+        if not spread > 1e-12 * float(np.max(np.abs(x))):
+            return None  # all points coincide (to their precision): no direction
+        dev /= spread  # the covariance in the points' own unit: no underflow at 1e-300
+        cov = (dev.T * w) @ dev / w.sum()
         evals, evecs = np.linalg.eigh(cov)
-        if evals[1] <= 1e-24 * max(1.0, float(np.max(np.abs(x))) ** 2):
-            return None  # all points coincide: no direction
+        if evals[1] <= 1e-24:
+            return None
         normal = evecs[:, 0]
         return Line2D.from_normal_offset(normal, normal @ centre)
 
