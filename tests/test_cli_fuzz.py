@@ -363,6 +363,11 @@ def test_input_limits(tmp_path, monkeypatch):
     code, _, err = run(["fit", "line", f])
     assert code == 2 and "too large" in err
     monkeypatch.undo()
+    monkeypatch.setattr(imaging_cli, "MAX_MATCHES", 20)
+    f = write(tmp_path, "m.csv", "".join(f"{i},{i},{i},{i}\n" for i in range(21)))
+    code, _, err = run(["fit", "homography", f])
+    assert code == 2 and "more than 20 rows" in err and "m.csv" in err
+    monkeypatch.undo()
     obs = [{"type": "L", "x": float(i), "y": 0.0} for i in range(loc_cli.MAX_DETECTIONS + 1)]
     code, _, err = run(["localize2d", write(tmp_path, "o.json", json.dumps(obs))])
     assert code == 2 and f"at most {loc_cli.MAX_DETECTIONS}" in err

@@ -15,8 +15,9 @@ __all__ = ["MAX_DETECTIONS", "MAX_LANDMARKS", "register"]
 #: Detections in OBS.json at most.
 MAX_DETECTIONS = 500
 #: Landmarks in MAP.json at most: the candidates come from map triplets, whose number grows
-#: as the cube (200 landmarks of one type take about 10 s, 1000 over a minute).
-MAX_LANDMARKS = 200
+#: as the cube (with 500 detections, 100 landmarks of one type take about 2.5 s and 0.8 GB,
+#: 200 about 20 s).
+MAX_LANDMARKS = 100
 
 
 def _localize3d(args) -> dict:
