@@ -14,9 +14,10 @@ from .localize2d import localize2d, observation_data
 
 __all__ = ["MAX_DETECTIONS", "register", "read_observations"]
 
-#: Detections in one frame at most: the candidate poses grow as the square of their number
-#: (200 detections give up to about 130000 candidates, 1 to 5 s).
-MAX_DETECTIONS = 200
+#: Detections in one frame at most (a robot sees a few dozen): the candidate poses grow as
+#: the square of their number. 100 detections of one type give up to about 33000 candidates,
+#: 1 to 4 s with any method; 200 give 130000, and RANSAC then scores them for 20 s.
+MAX_DETECTIONS = 100
 
 
 def read_observations(path):

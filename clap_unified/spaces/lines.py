@@ -26,6 +26,10 @@ class LineSpace(HypothesisSpace):
         the RMS radius of the data the first time :meth:`for_data` is called.
     origin : array_like of shape (2,), optional
         Offsets in the hypothesis distance are measured from here.
+    manifold : Line2D, optional
+        The distance between lines itself (e.g. a
+        :class:`~clap_unified.geometry.line_transfer.LineTransfer`); then
+        ``length_scale`` and ``origin`` are not used.
 
     Examples
     --------
@@ -40,8 +44,12 @@ class LineSpace(HypothesisSpace):
     model_shape = (2,)
     name = "line"
 
-    def __init__(self, length_scale: float = 1.0, origin=(0.0, 0.0)):
-        self._manifold = Line2D(length_scale=length_scale, origin=origin)
+    def __init__(self, length_scale: float = 1.0, origin=(0.0, 0.0), *,
+                 manifold: Line2D | None = None):
+        if manifold is not None and not isinstance(manifold, Line2D):
+            raise ValueError(f"manifold: expected a Line2D, got {type(manifold).__name__}")
+        self._manifold = (Line2D(length_scale=length_scale, origin=origin) if manifold is None
+                          else manifold)
 
     @classmethod
     def for_data(cls, points, *, metric: str = "chart") -> LineSpace:
@@ -74,9 +82,7 @@ class LineSpace(HypothesisSpace):
             anchors = region_anchors(pts)
             if len(np.unique(anchors, axis=0)) < 2:  # all points at one place: no region
                 anchors = anchors[4] + np.array([[-1.0, 0], [1, 0], [0, -1], [0, 1], [0, 0]])
-            space = cls.__new__(cls)
-            space._manifold = LineTransfer(anchors)
-            return space
+            return cls(manifold=LineTransfer(anchors))
         centre = pts.mean(axis=0)
         radius = float(np.sqrt(np.mean(np.sum((pts - centre) ** 2, axis=1))))
         return cls(length_scale=max(radius, 1e-12), origin=centre)
