@@ -6,7 +6,7 @@ import numpy as np
 
 from ..geometry.base import PAIRWISE_BLOCK
 
-__all__ = ["EmbeddedNeighbours", "auto_bandwidth", "dense_candidates", "knn_distance",
+__all__ = ["KNN_BUDGET", "EmbeddedNeighbours", "auto_bandwidth", "dense_candidates", "knn_distance",
            "neighbour_counts"]
 
 
