@@ -304,6 +304,8 @@ class EmbeddedNeighbours:
         """Indices of the points within ``radius`` of point ``i``, sorted."""
         if self.tree is None or not self.valid[i]:
             return np.zeros(0, dtype=np.intp)
+        if self.exact:  # the tree's answer is the answer
+            return np.sort(self.index[self.tree.query_ball_point(self.embedding[i], radius)])
         _, j, d = self._balls(np.array([i]), radius)
         return np.sort(j[d <= radius])
 
