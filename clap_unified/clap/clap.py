@@ -31,6 +31,7 @@ from .density import (
     EmbeddedNeighbours,
     auto_bandwidth,
     dense_candidates,
+    even_subset,
     knn_distance,
     neighbour_counts,
 )
@@ -206,8 +207,7 @@ def run_clap(space, data, hypotheses: HypothesisSet, *, threshold: float, prior=
         else:
             near = np.flatnonzero(space.near_prior(prior, models, radius))
             support = len(near)
-            if support > DENSE_LIMIT:  # a giant cluster: centred on an even subset of it
-                near = near[np.linspace(0, support - 1, DENSE_LIMIT).astype(np.intp)]
+            near = even_subset(near, DENSE_LIMIT)  # a giant cluster: centred on a subset
             sub = manifold.pairwise_distance(models[near]) if centre == "medoid" else None
         diag["near_prior"] = support
         if support < min_support:
@@ -291,7 +291,7 @@ def run_clap(space, data, hypotheses: HypothesisSet, *, threshold: float, prior=
                 continue
             support = len(near)
             if support > DENSE_LIMIT:  # a giant cluster: centred on an even subset of it
-                near = near[np.linspace(0, support - 1, DENSE_LIMIT).astype(np.intp)]
+                near = even_subset(near, DENSE_LIMIT)
                 sub = tree.pairwise(near) if tree is not None else None
             if sub is not None and centre == "medoid" and rejection == "trim":
                 b, keep = trimmed_medoid_index(sub, rounds=rounds,

@@ -6,8 +6,8 @@ import numpy as np
 
 from ..geometry.base import PAIRWISE_BLOCK
 
-__all__ = ["KNN_BUDGET", "EmbeddedNeighbours", "auto_bandwidth", "dense_candidates", "knn_distance",
-           "neighbour_counts"]
+__all__ = ["KNN_BUDGET", "EmbeddedNeighbours", "auto_bandwidth", "dense_candidates",
+           "even_subset", "knn_distance", "neighbour_counts"]
 
 
 def neighbour_counts(manifold, points, bandwidth: float) -> np.ndarray:
@@ -135,6 +135,18 @@ def dense_candidates(manifold, models, radius: float, min_count: int) -> np.ndar
     return np.flatnonzero(counts >= min_count)
 
 
+def even_subset(indices, m: int) -> np.ndarray:
+    """At most ``m`` of ``indices``, evenly spread over them (all of them when they are few).
+
+    Examples
+    --------
+    >>> even_subset(np.arange(10, 20), 4).tolist()
+    [10, 13, 16, 19]
+    """
+    n = len(indices)
+    return indices[np.unique(np.linspace(0, n - 1, min(n, m)).astype(np.intp))]
+
+
 #: Neighbour queries over more rows than this estimate the bandwidth's quantile from an
 #: evenly spread subset of the rows (each against every point), so that finding the
 #: bandwidth costs at most about this many neighbour results.
@@ -188,8 +200,8 @@ class EmbeddedNeighbours:
     def __init__(self, manifold, points):
         from scipy.spatial import cKDTree
 
-        self.exact = bool(getattr(manifold, "embedding_is_distance", False))
-        if not (self.exact or getattr(manifold, "embedding_bounds_distance", False)):
+        self.exact = bool(manifold.embedding_is_distance)
+        if not (self.exact or manifold.embedding_bounds_distance):
             raise ValueError(f"manifold: {manifold!r} has no embedding that gives or bounds "
                              "its distance")
         self.points = np.asarray(points, dtype=float)
@@ -297,8 +309,7 @@ class EmbeddedNeighbours:
         n = len(self.index)
         if n * (k + 1) <= KNN_BUDGET:
             return self.index
-        m = max(1024, KNN_BUDGET // (k + 1))
-        return self.index[np.unique(np.linspace(0, n - 1, min(n, m)).astype(np.intp))]
+        return even_subset(self.index, max(1024, KNN_BUDGET // (k + 1)))
 
     def ball(self, i: int, radius: float) -> np.ndarray:
         """Indices of the points within ``radius`` of point ``i``, sorted."""

@@ -171,7 +171,7 @@ class SE2(MatrixLieGroup):
         1.16504 <= 1.16942
         """
         T = np.asarray(points, dtype=float)
-        lam = self.tangent_weights[2]
+        lam = self.angle_weight
         return np.stack([T[..., 0, 2], T[..., 1, 2], lam * T[..., 0, 0], lam * T[..., 1, 0]],
                         axis=-1)
 
