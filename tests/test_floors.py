@@ -29,7 +29,7 @@ FACADE = "__init__"
 #: listed here that does not exist (yet, or any more) is ignored.
 FLOORS = [
     # Foundations: argument checks, frozen data containers, user-file readers.
-    ["_validation", "datatypes", "io"],
+    ["_validation", "_compiled", "datatypes", "io"],
     # Manifolds of models (SE(2), SE(3), homographies, lines).
     ["geometry"],
     # Maps the spaces localize against (the RoboCup field).

@@ -362,13 +362,14 @@ def _by_consensus(space, data, clusters, threshold, n_refine, bandwidth=None):
             clusters[j] = dataclasses.replace(clusters[j], model=model)
             cost[j] = refined
     order = np.argsort(cost, kind="stable")
-    kept, costs = [], []
-    manifold = space.manifold
+    # every distance between the (few) answers at once, not one call per pair of them
+    between = (space.manifold.pairwise_distance(np.stack([c.model for c in clusters]))
+               if bandwidth is not None and len(clusters) > 1 else None)
+    kept, kept_at, costs = [], [], []
     for j in order:
         c = clusters[j]
-        if bandwidth is not None and kept:
-            d = manifold.distance(c.model, np.stack([k.model for k in kept]))
-            near = np.flatnonzero(d <= bandwidth)
+        if between is not None and kept:
+            near = np.flatnonzero(between[j, kept_at] <= bandwidth)
             if len(near):
                 k = int(near[0])
                 kept[k] = dataclasses.replace(
@@ -376,6 +377,7 @@ def _by_consensus(space, data, clusters, threshold, n_refine, bandwidth=None):
                     members=np.union1d(kept[k].members, c.members))
                 continue
         kept.append(c)
+        kept_at.append(j)
         costs.append(cost[j])
     return kept, np.array(costs)
 

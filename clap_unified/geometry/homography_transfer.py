@@ -31,10 +31,15 @@ from __future__ import annotations
 
 import numpy as np
 
+from .. import _compiled
 from .._validation import check_array
 from .homography import Homography
 
 __all__ = ["HomographyTransfer", "region_anchors"]
+
+#: Stacks of more homographies than this are embedded by the compiled kernel
+#: (:func:`_transfer_embedding`) when ``clap_unified._compiled.AVAILABLE``.
+_COMPILED_FROM = 64
 
 
 def region_anchors(points, *, margin: float = 0.1) -> np.ndarray:
@@ -113,15 +118,18 @@ class HomographyTransfer(Homography):
         sign of its homogeneous coordinate relative to ``H33``.
         """
         H = np.asarray(points, dtype=float)
-        a = self.anchors
-        p = H[..., :, :2] @ a.T + H[..., :, 2:]  # (..., 3, K)
+        if _compiled.AVAILABLE and H.ndim == 3 and len(H) > _COMPILED_FROM:
+            return _transfer_embedding(np.ascontiguousarray(H), self.anchors)
+        ax, ay = self.anchors[:, 0], self.anchors[:, 1]
+        # elementwise, not a stack of tiny matrix products: no BLAS kernel in the last bits
+        p = H[..., :, 0, None] * ax + H[..., :, 1, None] * ay + H[..., :, 2, None]  # (..., 3, K)
         w = p[..., 2, :]
         # the sign of w at the anchors must be that of H33 (w at the image origin)
-        scale = np.abs(H).max(axis=(-2, -1))[..., None]
+        scale = np.abs(H.reshape(*H.shape[:-2], 9)).max(axis=-1)[..., None]
         with np.errstate(all="ignore"):
             ok = np.all(w * np.sign(H[..., 2, 2])[..., None] > 1e-12 * scale, axis=-1)
             xy = p[..., :2, :] / w[..., None, :]
-        emb = np.swapaxes(xy, -1, -2).reshape(*H.shape[:-2], 2 * len(a)) / np.sqrt(len(a))
+        emb = np.swapaxes(xy, -1, -2).reshape(*H.shape[:-2], 2 * len(ax)) / np.sqrt(len(ax))
         ok &= np.all(np.isfinite(emb), axis=-1)
         return np.where(ok[..., None], emb, np.nan)
 
@@ -143,3 +151,40 @@ class HomographyTransfer(Homography):
         if points_b is None:
             np.fill_diagonal(out, np.where(np.isnan(a[:, 0]), np.inf, 0.0))
         return out
+
+
+@_compiled.jit
+def _transfer_embedding(H, anchors):
+    """:meth:`HomographyTransfer.chordal_embedding` of a stack ``(S, 3, 3)``, compiled.
+
+    The numpy path's arithmetic in the same order, one homography at a time
+    (``tests/test_homography_compiled.py`` holds it to the numpy path).
+    """
+    n_s, n_a = H.shape[0], anchors.shape[0]
+    root = np.sqrt(n_a)
+    out = np.empty((n_s, 2 * n_a))
+    for t in range(n_s):
+        scale = 0.0
+        bad = False
+        for a in range(3):
+            for b in range(3):
+                e = abs(H[t, a, b])
+                if e != e:
+                    bad = True
+                scale = max(scale, e)
+        sign = np.sign(H[t, 2, 2])
+        for k in range(n_a):
+            x, y = anchors[k, 0], anchors[k, 1]
+            px = H[t, 0, 0] * x + H[t, 0, 1] * y + H[t, 0, 2]
+            py = H[t, 1, 0] * x + H[t, 1, 1] * y + H[t, 1, 2]
+            w = H[t, 2, 0] * x + H[t, 2, 1] * y + H[t, 2, 2]
+            ex = px / w / root
+            ey = py / w / root
+            if bad or not (w * sign > 1e-12 * scale) or not (np.isfinite(ex) and np.isfinite(ey)):
+                bad = True
+                break
+            out[t, 2 * k] = ex
+            out[t, 2 * k + 1] = ey
+        if bad:
+            out[t, :] = np.nan
+    return out

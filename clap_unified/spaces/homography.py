@@ -25,6 +25,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from .. import _compiled
 from .._validation import as_generator, check_array, check_choice, check_int, check_points
 from ..refine import refit_on_inliers
 from . import homography_compiled
@@ -472,9 +473,15 @@ class HomographySpace(HypothesisSpace):
     def solve_minimal(self, data, samples):
         # closed-form 4-point solutions in the data's Hartley frame, mapped back
         data = np.asarray(data, dtype=float)
-        idx = np.asarray(samples).T  # (4, S)
         # both point sets normalised in one batched pass
         q, c, (s1, s2) = _centre_scale(data.reshape(-1, 2, 2).transpose(1, 0, 2))
+        if _compiled.AVAILABLE:  # the same arithmetic, compiled (tested against the below)
+            (c1x, c1y), (c2x, c2y) = c.tolist()
+            return homography_compiled.four_point_solve(
+                np.ascontiguousarray(q), np.ascontiguousarray(samples, dtype=np.intp),
+                float(s1), float(s2), c1x, c1y, c2x, c2y, SINGULAR_RATIO,
+                self._manifold is not None)
+        idx = np.asarray(samples).T  # (4, S)
         x, y = q[0, :, 0][idx] * s1, q[0, :, 1][idx] * s1
         u, v = q[1, :, 0][idx] * s2, q[1, :, 1][idx] * s2
         H, dets_src, dets_dst = _four_point(x, y, u, v, (c[0], s1, c[1], s2))  # (3, 3, S)
@@ -517,7 +524,7 @@ class HomographySpace(HypothesisSpace):
             data, w = data[keep], w[keep]
         if len(data) < 4:
             return None
-        if homography_compiled.AVAILABLE:  # the same DLT, compiled (tested against dlt)
+        if _compiled.AVAILABLE:  # the same DLT, compiled (tested against dlt)
             H = homography_compiled.weighted_dlt(np.ascontiguousarray(data),
                                                  np.ones(len(data)) if w is None else w)
         else:

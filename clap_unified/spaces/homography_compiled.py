@@ -1,4 +1,4 @@
-"""Compiled kernels of the homography polish (numba), tested against the numpy path.
+"""Compiled kernels of homography estimation (numba), tested against the numpy path.
 
 The reweighted DLT of :func:`~clap_unified.spaces.homography_polish.polish_checked`
 runs a handful of small solves on a few hundred matches; in numpy each one
@@ -11,31 +11,26 @@ the same arithmetic in one compiled loop:
 * :func:`weighted_dlt` -- the Hartley-normalised weighted DLT of a subset of
   the matches, as :func:`~clap_unified.spaces.homography.dlt`;
 * :func:`irls` -- the reweighted DLT loop of the polish, with the same
-  stopping rules.
+  stopping rules;
+* :func:`four_point_solve` -- the closed-form 4-point solutions of thousands
+  of minimal samples and their degeneracy tests, as
+  :meth:`~clap_unified.spaces.homography.HomographySpace.solve_minimal` in
+  numpy (CLAP draws up to 10000 candidates on a hard pair).
 
 The numpy functions stay the reference: ``tests/test_homography_compiled.py``
-checks that both paths agree, and :data:`AVAILABLE` is False (the polish then
-runs in numpy) where numba cannot be imported. The first call compiles (about
-a second per kernel); the machine code is cached beside this file.
+checks that both paths agree. ``clap_unified._compiled.AVAILABLE`` is the
+one switch: False (or numba not importable) runs the numpy path. The first
+call compiles (about a second per kernel); the machine code is cached beside
+this file.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-try:
-    from numba import njit
-except ImportError:  # pragma: no cover - numba is a dependency; the numpy path remains
-    njit = None
+from .._compiled import jit as _jit
 
-__all__ = ["AVAILABLE", "irls", "symmetric_transfer_error", "weighted_dlt"]
-
-#: True when numba is importable and the compiled polish is used.
-AVAILABLE = njit is not None
-
-
-def _jit(fn):
-    return njit(cache=True, nogil=True, error_model="numpy")(fn) if AVAILABLE else fn
+__all__ = ["four_point_solve", "irls", "symmetric_transfer_error", "weighted_dlt"]
 
 
 @_jit
@@ -162,3 +157,134 @@ def irls(H, m, t, iterations):
         if done:
             break
     return H, r, inl
+
+
+@_jit
+def four_point_solve(q, idx, s1, s2, c1x, c1y, c2x, c2y, singular_ratio, frame_test):
+    """Closed-form 4-point homographies of the samples ``idx``, the usable ones only.
+
+    The arithmetic of :func:`~clap_unified.spaces.homography._four_point`
+    and of the tests of
+    :meth:`~clap_unified.spaces.homography.HomographySpace.solve_minimal`,
+    sample by sample, in the same order of operations (the results are the
+    numpy path's, bit for bit, in the tests).
+
+    Parameters
+    ----------
+    q : ndarray of shape (2, N, 2)
+        Source and destination points, centred (not yet scaled).
+    idx : ndarray of shape (S, 4)
+        The samples.
+    s1, s2, c1x, c1y, c2x, c2y : float
+        Hartley scales and centroids of the source and destination points.
+    singular_ratio : float
+        ``SINGULAR_RATIO`` of the near-singularity test.
+    frame_test : bool
+        Test singularity in the Hartley frame (``T2 H T1^-1``), else in pixels.
+
+    Returns
+    -------
+    H : ndarray of shape (M, 3, 3)
+        The usable homographies, ``H33 = 1``: no three points of the sample
+        (nearly) collinear on either side, ``H33`` away from zero, not
+        near-singular.
+    owner : ndarray of shape (M,)
+        The sample of each, increasing.
+    """
+    n_s = idx.shape[0]
+    # the collinearity tolerances come from the largest coordinate of the batch
+    big1 = 0.0
+    big2 = 0.0
+    for t in range(n_s):
+        for a in range(4):
+            j = idx[t, a]
+            big1 = max(big1, abs(q[0, j, 0] * s1), abs(q[0, j, 1] * s1))
+            big2 = max(big2, abs(q[1, j, 0] * s2), abs(q[1, j, 1] * s2))
+    tol_src = 1e-9 * max(big1, 1.0) ** 2
+    tol_dst = 1e-9 * max(big2, 1.0) ** 2
+    H = np.empty((n_s, 3, 3))
+    owner = np.empty(n_s, dtype=np.intp)
+    x = np.empty(4)
+    y = np.empty(4)
+    u = np.empty(4)
+    v = np.empty(4)
+    r = np.empty((3, 3))
+    rd = np.empty((3, 3))
+    lam = np.empty(3)
+    mu = np.empty(3)
+    c = np.empty(3)
+    uo = np.empty(3)
+    vo = np.empty(3)
+    G = np.empty((3, 3))
+    m = 0
+    for t in range(n_s):
+        for a in range(4):
+            j = idx[t, a]
+            x[a] = q[0, j, 0] * s1
+            y[a] = q[0, j, 1] * s1
+            u[a] = q[1, j, 0] * s2
+            v[a] = q[1, j, 1] * s2
+        good = True
+        for i in range(3):
+            ia, ib = (i + 1) % 3, (i + 2) % 3
+            r[i, 0] = y[ia] - y[ib]
+            r[i, 1] = x[ib] - x[ia]
+            r[i, 2] = x[ia] * y[ib] - x[ib] * y[ia]
+            lam[i] = r[i, 0] * x[3] + r[i, 1] * y[3] + r[i, 2]
+            rd[i, 0] = v[ia] - v[ib]
+            rd[i, 1] = u[ib] - u[ia]
+            rd[i, 2] = u[ia] * v[ib] - u[ib] * v[ia]
+            mu[i] = rd[i, 0] * u[3] + rd[i, 1] * v[3] + rd[i, 2]
+            if abs(lam[i]) <= tol_src or abs(mu[i]) <= tol_dst:
+                good = False
+        d123 = r[0, 0] * x[0] + r[0, 1] * y[0] + r[0, 2]
+        e123 = rd[0, 0] * u[0] + rd[0, 1] * v[0] + rd[0, 2]
+        if not good or abs(d123) <= tol_src or abs(e123) <= tol_dst:
+            continue
+        for i in range(3):
+            r[i, 2] = r[i, 2] / s1 - c1x * r[i, 0] - c1y * r[i, 1]  # r_i^T T1 / s1
+            c[i] = mu[i] * (lam[(i + 1) % 3] * lam[(i + 2) % 3])
+            uo[i] = u[i] / s2 + c2x  # T2^-1 q_i
+            vo[i] = v[i] / s2 + c2y
+        big = 0.0
+        for b in range(3):  # H = sum_i (uo_i, vo_i, 1) c_i r_i^T, summed in the order of i
+            cr = c[0] * r[0, b]
+            h0, h1, h2 = uo[0] * cr, vo[0] * cr, cr
+            for i in range(1, 3):
+                cr = c[i] * r[i, b]
+                h0 += uo[i] * cr
+                h1 += vo[i] * cr
+                h2 += cr
+            H[m, 0, b] = h0
+            H[m, 1, b] = h1
+            H[m, 2, b] = h2
+            big = max(big, abs(h0), abs(h1), abs(h2))
+        h33 = H[m, 2, 2]
+        if not abs(h33) > 1e-12 * big:
+            continue
+        for a in range(3):
+            for b in range(3):
+                H[m, a, b] = H[m, a, b] / h33
+        if frame_test:
+            for a in range(3):  # K = s1 H T1^-1
+                G[a, 0] = H[m, a, 0]
+                G[a, 1] = H[m, a, 1]
+                G[a, 2] = H[m, a, 0] * (c1x * s1) + H[m, a, 1] * (c1y * s1) + H[m, a, 2] * s1
+            for b in range(3):  # G = T2 K / s2 (rows 0 and 1 use K's third row first)
+                G[0, b] = G[0, b] - c2x * G[2, b]
+                G[1, b] = G[1, b] - c2y * G[2, b]
+                G[2, b] = G[2, b] / s2
+        else:
+            for a in range(3):
+                for b in range(3):
+                    G[a, b] = H[m, a, b]
+        det = (G[0, 0] * (G[1, 1] * G[2, 2] - G[1, 2] * G[2, 1])
+               - G[0, 1] * (G[1, 0] * G[2, 2] - G[1, 2] * G[2, 0])
+               + G[0, 2] * (G[1, 0] * G[2, 1] - G[1, 1] * G[2, 0]))
+        rows = (G[0, 0] * G[0, 0] + G[0, 1] * G[0, 1] + G[0, 2] * G[0, 2]) * (
+            G[1, 0] * G[1, 0] + G[1, 1] * G[1, 1] + G[1, 2] * G[1, 2]) * (
+            G[2, 0] * G[2, 0] + G[2, 1] * G[2, 1] + G[2, 2] * G[2, 2])
+        if det * det > singular_ratio ** 2 * rows:
+            owner[m] = t
+            m += 1
+    return H[:m].copy(), owner[:m].copy()

@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from .. import _compiled
 from .._validation import check_array, check_int, check_points, check_positive
 from . import homography_compiled
 from .homography import dlt, symmetric_transfer_error, transfer
@@ -89,7 +90,7 @@ def polish_checked(H, m, t: float, *, irls_iterations: int = 5, lm: bool = False
     """
     H = H / H[2, 2]
     if compiled is None:
-        compiled = homography_compiled.AVAILABLE
+        compiled = _compiled.AVAILABLE
     if compiled:
         H, _, inl = homography_compiled.irls(H, np.ascontiguousarray(m, dtype=float), float(t),
                                              int(irls_iterations))

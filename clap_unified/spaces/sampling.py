@@ -136,7 +136,7 @@ def generate_hypotheses(space: HypothesisSpace, data, n: int = 1000, *, rng=None
         idx = sample_subsets(len(data), m, k, rng=g)
         mod, owner = space.solve_minimal(data, idx)
         drawn += k
-        bad += k - len(np.unique(owner))
+        bad += k - np.count_nonzero(np.bincount(owner, minlength=k))  # samples without a model
         take = min(len(mod), n - found)
         models.append(mod[:take])
         samples.append(idx[owner[:take]])
