@@ -172,3 +172,31 @@ def test_point_mapped_to_infinity_is_an_infinite_error_not_an_exception():
     H_c, inl_c = polish_checked(H, m, 1.0, compiled=True)
     H_n, inl_n = polish_checked(H, m, 1.0, compiled=False)
     assert np.array_equal(inl_c, inl_n)
+
+
+@pytest.mark.parametrize("n_matches", [12, 60, 400])
+@pytest.mark.parametrize("n", [30, 500, 3000])
+def test_progressive_samples_are_the_numpy_ones(n_matches, n, numpy_path):
+    # the hash table of new samples takes exactly the rows the Python set takes:
+    # small pools (12 matches: 495 4-subsets) are exhausted long before n
+    pair = synthetic_pair(0.3, n_matches=n_matches, rng=n)
+    m, q = pair.input.matches, pair.input.quality
+    space = HomographySpace.for_data(m, metric="transfer")
+    ours = space.hypotheses(m, n, rng=1, quality=q)
+    with numpy_path:
+        ref = space.hypotheses(m, n, rng=1, quality=q)
+    assert np.array_equal(ours.samples, ref.samples)
+    assert np.array_equal(ours.models, ref.models)
+    assert (ours.n_draws, ours.n_degenerate) == (ref.n_draws, ref.n_degenerate)
+    keys = {tuple(r) for r in np.sort(ours.samples, axis=1).tolist()}
+    assert len(keys) == len(ours.samples)  # no sample twice
+
+
+def test_take_new_samples_counts_and_order():
+    rows = np.array([[0, 1, 2, 3], [0, 1, 2, 4], [0, 1, 2, 3], [1, 2, 3, 4], [0, 1, 2, 5]])
+    table, used = np.zeros((16, 2), dtype=np.int64), np.zeros(16, dtype=bool)
+    assert hc.take_new_samples(rows, 6, table, used, 10).tolist() == [0, 1, 3, 4]
+    assert hc.take_new_samples(rows, 6, table, used, 10).tolist() == []  # all seen
+    table, used = np.zeros((16, 2), dtype=np.int64), np.zeros(16, dtype=bool)
+    assert hc.take_new_samples(rows, 6, table, used, 2).tolist() == [0, 1]  # at most 2
+    assert hc.take_new_samples(rows, 6, table, used, 5).tolist() == [3, 4]

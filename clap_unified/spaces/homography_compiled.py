@@ -15,7 +15,11 @@ the same arithmetic in one compiled loop:
 * :func:`four_point_solve` -- the closed-form 4-point solutions of thousands
   of minimal samples and their degeneracy tests, as
   :meth:`~clap_unified.spaces.homography.HomographySpace.solve_minimal` in
-  numpy (CLAP draws up to 10000 candidates on a hard pair).
+  numpy (CLAP draws up to 10000 candidates on a hard pair);
+* :func:`take_new_samples` -- the samples of a batch never drawn before, in
+  a hash table, as the Python set of progressive sampling
+  (:meth:`~clap_unified.spaces.homography.HomographySpace.hypotheses` with
+  ``quality``).
 
 The numpy functions stay the reference: ``tests/test_homography_compiled.py``
 checks that both paths agree. ``clap_unified._compiled.AVAILABLE`` is the
@@ -30,7 +34,8 @@ import numpy as np
 
 from .._compiled import jit as _jit
 
-__all__ = ["four_point_solve", "irls", "symmetric_transfer_error", "weighted_dlt"]
+__all__ = ["four_point_solve", "irls", "symmetric_transfer_error", "take_new_samples",
+           "weighted_dlt"]
 
 
 @_jit
@@ -288,3 +293,39 @@ def four_point_solve(q, idx, s1, s2, c1x, c1y, c2x, c2y, singular_ratio, frame_t
             owner[m] = t
             m += 1
     return H[:m].copy(), owner[:m].copy()
+
+
+@_jit
+def take_new_samples(rows, n, table, used, want):
+    """The rows of ``rows`` not taken before, in order, until ``want`` are taken in all.
+
+    ``rows`` ``(B, 4)`` are samples of sorted match indices below ``n``;
+    ``table`` ``(T, 2)`` and ``used`` ``(T,)`` are the open-addressing hash
+    table of the samples taken so far (``T`` a power of two, more than twice
+    the samples that will ever be taken), updated in place.
+
+    Returns the indices of the rows taken: a row is taken when no equal row
+    was taken before (in this batch or an earlier one) and fewer than
+    ``want`` rows of this batch were taken.
+    """
+    mask = table.shape[0] - 1
+    out = np.empty(rows.shape[0], dtype=np.intp)
+    m = 0
+    for j in range(rows.shape[0]):
+        if m >= want:
+            break
+        hi = rows[j, 0] * n + rows[j, 1]
+        lo = rows[j, 2] * n + rows[j, 3]
+        h = (hi * 1000003 + lo) & mask
+        while True:
+            if not used[h]:
+                used[h] = True
+                table[h, 0] = hi
+                table[h, 1] = lo
+                out[m] = j
+                m += 1
+                break
+            if table[h, 0] == hi and table[h, 1] == lo:
+                break
+            h = (h + 1) & mask
+    return out[:m].copy()
