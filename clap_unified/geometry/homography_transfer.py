@@ -38,7 +38,7 @@ from .homography import Homography
 __all__ = ["HomographyTransfer", "region_anchors"]
 
 #: Stacks of more homographies than this are embedded by the compiled kernel
-#: (:func:`_transfer_embedding`) when ``clap_unified._compiled.AVAILABLE``.
+#: (``_transfer_embedding``) when ``clap_unified._compiled.AVAILABLE``.
 _COMPILED_FROM = 64
 
 

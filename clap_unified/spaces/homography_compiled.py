@@ -14,7 +14,7 @@ the same arithmetic in one compiled loop:
   stopping rules;
 * :func:`four_point_solve` -- the closed-form 4-point solutions of thousands
   of minimal samples and their degeneracy tests, as
-  :meth:`~clap_unified.spaces.homography.HomographySpace.solve_minimal` in
+  ``HomographySpace.solve_minimal`` in
   numpy (CLAP draws up to 10000 candidates on a hard pair);
 * :func:`take_new_samples` -- the samples of a batch never drawn before, in
   a hash table, as the Python set of progressive sampling
@@ -168,9 +168,9 @@ def irls(H, m, t, iterations):
 def four_point_solve(q, idx, s1, s2, c1x, c1y, c2x, c2y, singular_ratio, frame_test):
     """Closed-form 4-point homographies of the samples ``idx``, the usable ones only.
 
-    The arithmetic of :func:`~clap_unified.spaces.homography._four_point`
+    The arithmetic of ``clap_unified.spaces.homography._four_point``
     and of the tests of
-    :meth:`~clap_unified.spaces.homography.HomographySpace.solve_minimal`,
+    ``HomographySpace.solve_minimal``,
     sample by sample, in the same order of operations (the results are the
     numpy path's, bit for bit, in the tests).
 
