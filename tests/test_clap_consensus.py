@@ -171,3 +171,32 @@ def test_a_budget_above_the_protocols_cap_raises_the_cap():
     m, _, _ = _decoy_pair(7)
     res = estimate_homography(m, "clap", n_hypotheses=12_000, rng=0)
     assert res.success and res.diagnostics["adaptive_hypotheses"] == 12_000
+
+
+@pytest.mark.parametrize("metric", ["transfer", "lie", "lie_linear", "frobenius"])
+def test_answers_merge_when_their_distance_is_exactly_the_bandwidth(metric):
+    # refined cluster centres within the bandwidth of a better one are one answer; the
+    # rule uses the manifold's distance itself, so a distance that equals the bandwidth
+    # merges (pairwise_distance may differ from it in the last bits)
+    from clap_unified.clap.clap import _by_consensus, _msac_cost
+    from clap_unified.imaging.datasets import synthetic_pair
+    from clap_unified.result import Cluster
+
+    m = np.asarray(synthetic_pair(0.3, n_matches=100, rng=0).input.matches, dtype=float)
+    space = HomographySpace.for_data(m, metric=metric)
+    man = space.manifold
+    g = np.random.default_rng(0)
+    for _ in range(200):  # prefer a pair where the two arithmetics disagree
+        Hs = np.eye(3) + g.normal(0, [[0.01, 0.01, 3], [0.01, 0.01, 3], [1e-5, 1e-5, 0]],
+                                  (2, 3, 3))
+        a, b = np.argsort(_msac_cost(space, Hs, m, 3.0), kind="stable")
+        d = float(man.distance(Hs[b], Hs[a]))
+        if man.pairwise_distance(Hs)[b, a] != d:
+            break
+    clusters = [Cluster(Hs[0], 5.0, 0.0, np.array([0, 1])), Cluster(Hs[1], 3.0, 0.0,
+                                                                     np.array([2]))]
+    kept, costs = _by_consensus(space, m, clusters, 3.0, 0, bandwidth=d)
+    assert len(kept) == 1 and kept[0].support == 8.0
+    assert kept[0].members.tolist() == [0, 1, 2] and len(costs) == 1
+    kept, _ = _by_consensus(space, m, clusters, 3.0, 0, bandwidth=np.nextafter(d, 0))
+    assert len(kept) == 2

@@ -25,15 +25,17 @@ def test_numba_is_used():
 @pytest.fixture
 def numpy_path():
     """Run a block with the kernels switched off (the numpy reference), then on again."""
+    was = _compiled.AVAILABLE
+
     class Switch:
         def __enter__(self):
             _compiled.AVAILABLE = False
 
         def __exit__(self, *exc):
-            _compiled.AVAILABLE = True
+            _compiled.AVAILABLE = was
 
     yield Switch()
-    _compiled.AVAILABLE = True
+    _compiled.AVAILABLE = was
 
 
 def _hard_matches(seed, unit=1.0):
@@ -61,6 +63,87 @@ def test_four_point_solve_is_the_numpy_solver_bit_for_bit(seed, frame, unit, num
     assert np.array_equal(owner, owner_ref)
     assert np.array_equal(H, H_ref)
     assert H.flags.c_contiguous and H.shape == (len(owner), 3, 3)
+
+
+def _solve_both(space, m, idx, numpy_path):
+    H, owner = space.solve_minimal(m, idx)
+    with numpy_path:
+        H_ref, owner_ref = space.solve_minimal(m, idx)
+    assert np.array_equal(owner, owner_ref)
+    assert np.array_equal(H, H_ref)
+    return owner
+
+
+def test_four_point_solve_rejects_h33_near_zero_like_numpy(numpy_path):
+    # exact correspondences of homographies whose H33 is 1e-16 .. 1e-8 of the largest
+    # entry: the source origin goes (nearly) to infinity; below 1e-12 both paths refuse
+    g = np.random.default_rng(3)
+    src = g.uniform(10, 500, (40, 2))
+    ratios = np.logspace(-16, -8, 40)
+    m = []
+    for r in ratios:
+        H = np.array([[1.0, 0.1, 5.0], [0.05, 1.0, -3.0], [1e-3, 2e-3, r]])
+        p = np.c_[src[:4], np.ones(4)] @ H.T
+        m.append(np.c_[src[:4], p[:, :2] / p[:, 2:]])
+    m = np.concatenate(m)
+    idx = np.arange(len(m)).reshape(-1, 4)
+    owner = _solve_both(HomographySpace(), m, idx, numpy_path)
+    kept = ratios[owner]
+    assert kept.min() > 1e-13 and len(owner) < len(ratios)  # the test is on the edge
+
+
+def test_four_point_solve_collinearity_tolerance_of_each_side(numpy_path):
+    # destinations nearly collinear by 1e-12 .. 1e-3 of their spread, and one far
+    # destination point: the two sides' tolerances differ by orders of magnitude
+    g = np.random.default_rng(4)
+    n = 400
+    src = g.uniform(0, 400, (n, 2))
+    t = g.uniform(0, 400, n)
+    eps = np.logspace(-12, -3, n) * 400 * g.choice([-1, 1], n)
+    dst = np.c_[t, 0.5 * t + 7 + eps]
+    dst[-1] = [4e4, -3e4]  # far away: the destination's largest normalised coordinate
+    m = np.c_[src, dst]
+    idx = sample_subsets(n - 1, 4, 20000, rng=0)
+    owner = _solve_both(HomographySpace.for_data(m, metric="transfer"), m, idx, numpy_path)
+    assert 0 < len(owner) < len(idx)
+
+
+def test_transfer_embedding_sign_test_at_the_edge(numpy_path):
+    # w at an anchor just below and just above 1e-12 of the largest entry
+    man = HomographyTransfer(np.array([[100.0, 0.0], [0.0, 0.0]]))
+    w = np.repeat(np.logspace(-14, -10, 50), 2)
+    H = np.zeros((100, 3, 3))
+    H[:, 0, 0] = H[:, 1, 1] = 1.0
+    H[:, 2, 2] = 1.0
+    H[:, 2, 0] = (w - 1.0) / 100.0  # w = 100 g + 1 at the first anchor
+    ours = man.chordal_embedding(H)
+    with numpy_path:
+        ref = man.chordal_embedding(H)
+    assert np.array_equal(np.isnan(ours), np.isnan(ref))
+    assert np.array_equal(np.nan_to_num(ours), np.nan_to_num(ref))
+    valid = ~np.isnan(ours[:, 0])
+    assert 0 < valid.sum() < len(H)  # some rows on each side of the edge
+
+
+@pytest.mark.parametrize("samples", [[[0, 1, 2, 21]], [[0, 1, 2, 3_000_000]],
+                                     [[0, 1, 2], [3, 4, 5]], [[0.0, 1.0, 2.0, 3.0]]])
+def test_solve_minimal_refuses_bad_samples_on_both_paths(samples, numpy_path):
+    m = np.random.default_rng(0).uniform(0, 600, (20, 4))
+    space = HomographySpace()
+    with pytest.raises(IndexError):
+        space.solve_minimal(m, np.array(samples))
+    with numpy_path, pytest.raises(IndexError):
+        space.solve_minimal(m, np.array(samples))
+
+
+@pytest.mark.parametrize("shape", [(100, 3, 4), (100, 4, 3), (100, 2, 2)])
+def test_transfer_embedding_refuses_other_shapes_like_numpy(shape, numpy_path):
+    man = HomographyTransfer(np.array([[1.0, 2.0], [3.0, 4.0]]))
+    H = np.ones(shape)
+    with numpy_path, pytest.raises((ValueError, IndexError)):
+        man.chordal_embedding(H)
+    with pytest.raises((ValueError, IndexError)):
+        man.chordal_embedding(H)
 
 
 def test_transfer_embedding_is_the_numpy_embedding_bit_for_bit(numpy_path):

@@ -362,9 +362,14 @@ def _by_consensus(space, data, clusters, threshold, n_refine, bandwidth=None):
             clusters[j] = dataclasses.replace(clusters[j], model=model)
             cost[j] = refined
     order = np.argsort(cost, kind="stable")
-    # every distance between the (few) answers at once, not one call per pair of them
-    between = (space.manifold.pairwise_distance(np.stack([c.model for c in clusters]))
-               if bandwidth is not None and len(clusters) > 1 else None)
+    # every distance between the (few) answers in one broadcast call of the manifold's
+    # distance (not pairwise_distance, whose arithmetic may differ in the last bits and
+    # decide a merge at exactly the bandwidth differently)
+    if bandwidth is not None and len(clusters) > 1:
+        M = np.stack([c.model for c in clusters])
+        between = space.manifold.distance(M[:, None], M[None])
+    else:
+        between = None
     kept, kept_at, costs = [], [], []
     for j in order:
         c = clusters[j]

@@ -118,7 +118,8 @@ class HomographyTransfer(Homography):
         sign of its homogeneous coordinate relative to ``H33``.
         """
         H = np.asarray(points, dtype=float)
-        if _compiled.AVAILABLE and H.ndim == 3 and len(H) > _COMPILED_FROM:
+        if (_compiled.AVAILABLE and H.ndim == 3 and H.shape[1:] == (3, 3)
+                and len(H) > _COMPILED_FROM):
             return _transfer_embedding(np.ascontiguousarray(H), self.anchors)
         ax, ay = self.anchors[:, 0], self.anchors[:, 1]
         # elementwise, not a stack of tiny matrix products: no BLAS kernel in the last bits

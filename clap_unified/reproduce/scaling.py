@@ -194,8 +194,9 @@ def compiled_speedup(matches, *, repeat: int = 5, method: str = "clap") -> dict:
     from ..spaces.homography_polish import polish_checked
 
     repeat = check_int(repeat, "repeat", minimum=1)
-    if not _compiled.AVAILABLE:
+    if _compiled.njit is None:
         raise RuntimeError("compiled_speedup: numba is not importable, nothing to compare")
+    switch = _compiled.AVAILABLE  # restored as it was found
 
     def timed(fn):
         times, out = [], None
@@ -220,7 +221,7 @@ def compiled_speedup(matches, *, repeat: int = 5, method: str = "clap") -> dict:
             try:
                 est[compiled] = timed(lambda m=m: estimate_homography(m, method, rng=0))
             finally:
-                _compiled.AVAILABLE = True
+                _compiled.AVAILABLE = switch
         same &= bool(np.array_equal(inl_c, inl_n)
                      and np.array_equal(est[True][1].inliers, est[False][1].inliers))
         rows.append((t_pn, t_pc, est[False][0], est[True][0]))

@@ -512,7 +512,14 @@ class HomographySpace(HypothesisSpace):
         data = np.asarray(data, dtype=float)
         # both point sets normalised in one batched pass
         q, c, (s1, s2) = _centre_scale(data.reshape(-1, 2, 2).transpose(1, 0, 2))
-        if _compiled.AVAILABLE:  # the same arithmetic, compiled (tested against the below)
+        samples = np.asarray(samples)
+        # the same arithmetic, compiled (tested against the below), for samples in its
+        # domain: the kernel does not check indices, so anything else (a float or
+        # out-of-range index, another shape) takes the numpy path and its IndexError
+        n = len(data)
+        if (_compiled.AVAILABLE and samples.ndim == 2 and samples.shape[1] == 4
+                and np.issubdtype(samples.dtype, np.integer)
+                and (samples.size == 0 or (samples.min() >= -n and samples.max() < n))):
             (c1x, c1y), (c2x, c2y) = c.tolist()
             return homography_compiled.four_point_solve(
                 np.ascontiguousarray(q), np.ascontiguousarray(samples, dtype=np.intp),
