@@ -247,8 +247,9 @@ class _NewSamples:
 
     The numpy path keeps a Python set of the rows; the compiled one
     (:func:`~clap_unified.spaces.homography_compiled.take_new_samples`) a
-    hash table, with the same answer (tested), twenty times faster on the
-    ten thousand samples of a hard pair.
+    hash table, with the same answer (tested): with the compiled solver,
+    10000 progressive candidates of an EVD pair take about a third of the
+    numpy path's time.
     """
 
     def __init__(self, n: int, most: int):
