@@ -18,7 +18,7 @@ from ..fitting import fit
 from ..registry import Strategy, register_strategy
 from ..result import Cluster, Consensus, ConsensusResult
 from ..spaces.base import HypothesisSet
-from ..spaces.sampling import sample_subsets
+from ..spaces.sampling import sample_subsets, unsolved_samples
 
 __all__ = ["ransac", "required_trials", "run_ransac", "score_hypotheses"]
 
@@ -134,7 +134,7 @@ def run_ransac(space, data, hypotheses: HypothesisSet | None, *, threshold: floa
         else:
             idx = sample_subsets(n, m, k, rng=g)
             models, owner = space.solve_minimal(data, idx)
-            degenerate += k - len(np.unique(owner))
+            degenerate += unsolved_samples(k, owner)
         # score in chunks of at most SCORE_BLOCK residuals (memory stays bounded for
         # many data); the samples drawn, hence the result, do not depend on it
         step = max(1, SCORE_BLOCK // max(n, 1))

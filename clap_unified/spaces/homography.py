@@ -526,7 +526,7 @@ class HomographySpace(HypothesisSpace):
                 np.ascontiguousarray(q), np.ascontiguousarray(samples, dtype=np.intp),
                 float(s1), float(s2), c1x, c1y, c2x, c2y, SINGULAR_RATIO,
                 self._manifold is not None)
-        idx = np.asarray(samples).T  # (4, S)
+        idx = samples.T  # (4, S)
         x, y = q[0, :, 0][idx] * s1, q[0, :, 1][idx] * s1
         u, v = q[1, :, 0][idx] * s2, q[1, :, 1][idx] * s2
         H, dets_src, dets_dst = _four_point(x, y, u, v, (c[0], s1, c[1], s2))  # (3, 3, S)
@@ -661,11 +661,12 @@ class HomographySpace(HypothesisSpace):
             # support that no new data gives (and exact ties between clusters).
             # A few extra draws so degenerate samples do not leave the pool short.
             want = int(k) + 8
-            idx = []
+            idx, have = [], 0
             for _ in range(8):
                 rows = np.sort(order[sample_subsets(int(size), 4, want, rng=g)], axis=1)
-                idx.append(new_rows(rows, want - sum(map(len, idx))))
-                if sum(map(len, idx)) >= want:
+                idx.append(new_rows(rows, want - have))
+                have += len(idx[-1])
+                if have >= want:
                     break
             idx = np.concatenate(idx)
             if len(idx) == 0:

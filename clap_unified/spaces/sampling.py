@@ -10,7 +10,8 @@ import numpy as np
 from .._validation import as_generator, check_choice, check_int
 from .base import HypothesisSet, HypothesisSpace
 
-__all__ = ["generate_hypotheses", "enumerate_hypotheses", "sample_subsets"]
+__all__ = ["generate_hypotheses", "enumerate_hypotheses", "sample_subsets",
+           "unsolved_samples"]
 
 
 def sample_subsets(n_data: int, size: int, n_samples: int, *, rng=None) -> np.ndarray:
@@ -57,6 +58,20 @@ def sample_subsets(n_data: int, size: int, n_samples: int, *, rng=None) -> np.nd
     return out.T.copy()
 
 
+def unsolved_samples(k: int, owner) -> int:
+    """How many of ``k`` samples gave no model, from ``solve_minimal``'s ``owner`` indices.
+
+    A sample may give several models (its index then repeats in ``owner``).
+
+    Examples
+    --------
+    >>> unsolved_samples(5, np.array([0, 2, 2, 4]))
+    2
+    """
+    return k - int(np.count_nonzero(np.bincount(np.asarray(owner, dtype=np.intp),
+                                                minlength=k)))
+
+
 def enumerate_hypotheses(space: HypothesisSpace, data) -> HypothesisSet:
     """Solve every ``min_samples``-subset of ``data`` (use only when that is small).
 
@@ -72,7 +87,7 @@ def enumerate_hypotheses(space: HypothesisSpace, data) -> HypothesisSet:
     idx = np.array(list(combinations(range(len(data)), space.min_samples)), dtype=np.intp)
     idx = idx.reshape(-1, space.min_samples)
     models, owner = space.solve_minimal(data, idx)
-    n_bad = len(idx) - len(np.unique(owner))
+    n_bad = unsolved_samples(len(idx), owner)
     return HypothesisSet(models, idx[owner], len(idx), n_bad, True, space)
 
 
@@ -136,7 +151,7 @@ def generate_hypotheses(space: HypothesisSpace, data, n: int = 1000, *, rng=None
         idx = sample_subsets(len(data), m, k, rng=g)
         mod, owner = space.solve_minimal(data, idx)
         drawn += k
-        bad += k - np.count_nonzero(np.bincount(owner, minlength=k))  # samples without a model
+        bad += unsolved_samples(k, owner)
         take = min(len(mod), n - found)
         models.append(mod[:take])
         samples.append(idx[owner[:take]])
