@@ -372,28 +372,52 @@ def _csv(rows) -> str:
     return buf.getvalue()
 
 
-def claims_markdown(claims) -> str:
-    """The claims as a Markdown table (the book's front page shows the same).
+def _cell(s) -> str:
+    return str(s).replace("|", "\\|").replace("\n", " ")
+
+
+def _row(cells) -> str:
+    return "| " + " | ".join(_cell(c) for c in cells) + " |"
+
+
+def claims_markdown(claims, details: bool = True) -> str:
+    """The claims as Markdown: a table of verdicts, then each claim's protocol, deviations,
+    sensitivity and controls (the book's front page shows the same).
 
     Examples
     --------
-    >>> print(claims_markdown([{"claim": "CLAP wins.", "section": "V", "verdict": "reproduced",
-    ...                         "measured": "CLAP 0.9, RANSAC 0.5", "data": ["toy: 3 scenes"],
-    ...                         "chapter": "02_line_fitting"}]))
-    | claim (the paper's words) | verdict | what was measured | data |
+    >>> claim = {"claim": "CLAP wins.", "section": "V", "verdict": "reproduced",
+    ...          "summary": "reproduced", "measured": "CLAP 0.9, RANSAC 0.5",
+    ...          "data": ["toy: 3 scenes"], "chapter": "02_line_fitting"}
+    >>> print(claims_markdown([claim], details=False))
+    | claim (the paper's words) | verdict on the paper's protocol | what was measured | data |
     |---|---|---|---|
     | CLAP wins. *(V)* | **reproduced** | CLAP 0.9, RANSAC 0.5 | toy |
     <BLANKLINE>
     """
-    lines = ["| claim (the paper's words) | verdict | what was measured | data |",
-             "|---|---|---|---|"]
+    lines = ["| claim (the paper's words) | verdict on the paper's protocol | what was measured "
+             "| data |", "|---|---|---|---|"]
     for c in claims:
         data = "; ".join(d.split(":")[0] for d in c["data"]) or "-"
         reading = f" Read as: {c['reading']}." if c.get("reading") else ""
-        cells = [f"{c['claim']} *({c['section']})*{reading}", f"**{c['verdict']}**",
-                 c["measured"], data]
-        lines.append("| " + " | ".join(s.replace("|", "\\|").replace("\n", " ")
-                                        for s in cells) + " |")
+        verdict = f"**{c['verdict']}**"
+        if c.get("depends_on"):
+            verdict += f"; depends on {len(c['depends_on'])} of " \
+                       f"{len(c.get('sensitivity', []))} alternatives (below)"
+        lines.append(_row([f"{c['claim']} *({c['section']})*{reading}", verdict,
+                           c["measured"], data]))
+    if details:
+        for i, c in enumerate(claims, 1):
+            lines += ["", f"**{i}. {c['key']}: {c.get('summary', c['verdict'])}.** "
+                      + " ".join(f"Protocol: {p}." for p in c.get("protocol", []))]
+            if c.get("deviations"):
+                lines += ["", "| the paper | here | why |", "|---|---|---|"]
+                lines += [_row([d["paper"], d["here"], d["why"]]) for d in c["deviations"]]
+            rows = c.get("sensitivity", []) + c.get("controls", [])
+            if rows:
+                lines += ["", "| alternative | kind | verdict | measured |", "|---|---|---|---|"]
+                lines += [_row([r["change"], r["kind"], f"**{r['verdict']}**", r["measured"]])
+                          for r in rows]
     return "\n".join(lines) + "\n"
 
 
