@@ -15,7 +15,8 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 __all__ = ["CLAIMS", "MARGIN", "VARIANT_KINDS", "VERDICTS", "WHY", "Claim", "chapter_claims",
-           "deviation", "evaluate_claims", "judge_variants", "rates_differ", "wilson_lower"]
+           "deviation", "evaluate_claims", "judge_variants", "rates_differ", "verdict_lines",
+           "wilson_lower"]
 
 #: The four verdicts a claim can get, from best to no data.
 VERDICTS = ("reproduced", "partly reproduced", "not reproduced", "data unavailable")
@@ -604,21 +605,60 @@ def evaluate_claims(outputs: dict, skipped: dict | None = None) -> list[dict]:
     return out
 
 
-def chapter_claims(chapter: str) -> str:
+def chapter_claims(chapter: str, claims: list | None = None) -> str:
     """Markdown list of the claims a chapter tests, with their rules and experiments.
 
-    The verdicts are on the book's front page and in ``claims.json``; a chapter
-    shows this list so that its claims are written once, here.
+    Without ``claims`` the list states what is tested and how; with the
+    evaluated claims (:func:`evaluate_claims`, ``Reproduction.claims``) it
+    adds each verdict on the paper's protocol, the deviations, the verdict
+    under every alternative and under the controls, so that a chapter shows
+    its claims as the front page does without writing them a second time.
 
     Examples
     --------
     >>> print(chapter_claims("03_localization_2d").splitlines()[0][:41])
     * *"CLAP is particularly recognized for i
     """
-    items = [f"* *\"{c.words}\"* ({c.section}). "
-             + (f"Read as: {c.reading}. " if c.reading else "")
-             + f"Experiment `{', '.join(c.experiments)}`; verdict rule: {c.rule}."
-             for c in CLAIMS if c.chapter == chapter]
+    judged = {c["key"]: c for c in claims or ()}
+    items = []
+    for c in CLAIMS:
+        if c.chapter != chapter:
+            continue
+        text = (f"* *\"{c.words}\"* ({c.section}). "
+                + (f"Read as: {c.reading}. " if c.reading else "")
+                + f"Experiment `{', '.join(c.experiments)}`; verdict rule: {c.rule}.")
+        e = judged.get(c.key)
+        if e is not None:
+            text += f"\n\n  **Verdict: {e['summary']}.** Measured: {e['measured']}."
+            for d in e.get("deviations", []):
+                text += (f"\n  * Deviation. The paper: {d['paper']}. Here: {d['here']}. "
+                         f"Why: {d['why']}.")
+            for r in e.get("sensitivity", []) + e.get("controls", []):
+                text += f"\n  * {r['kind'].capitalize()}: {r['change']}: **{r['verdict']}**."
+        items.append(text)
     if not items:
         raise ValueError(f"chapter: no claim is tested in {chapter!r}")
     return "\n".join(items) + "\n"
+
+
+def verdict_lines(claims: list, chapter: str | None = None) -> str:
+    """One plain-text line per verdict (protocol, alternatives, controls) of the claims of
+    ``chapter`` (all claims when None): what ``pytest --nbval`` compares in a chapter.
+
+    Examples
+    --------
+    >>> claim = {"key": "k", "chapter": "c", "verdict": "reproduced", "sensitivity": [],
+    ...          "controls": [{"change": "a broken method", "verdict": "not reproduced"}]}
+    >>> print(verdict_lines([claim]))
+    k: reproduced (the paper's protocol)
+    k: not reproduced (control: a broken method)
+    """
+    lines = []
+    for c in claims:
+        if chapter is not None and c["chapter"] != chapter:
+            continue
+        lines.append(f"{c['key']}: {c['verdict']} (the paper's protocol)")
+        lines += [f"{c['key']}: {r['verdict']} ({r['change']})" for r in c["sensitivity"]]
+        lines += [f"{c['key']}: {r['verdict']} (control: {r['change'].removeprefix('control: ')})"
+                  for r in c["controls"]]
+    return "\n".join(lines)

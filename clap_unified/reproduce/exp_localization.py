@@ -213,7 +213,7 @@ def run_localization2d(params: dict, seed: int) -> dict:
                          "numbers": _numbers_2d(changed, params, var_sym[key])}
     changed = [r for r in rows if r["method"] != "clap"] + var_rows["control_budget"]
     variants["control_budget"] = {
-        "label": f"control: in CLAP's place, RANSAC scoring {CONTROL_BUDGET_2D} random "
+        "label": f"in CLAP's place, RANSAC scoring {CONTROL_BUDGET_2D} random "
                  f"candidates (a method that is not robust)", "kind": "control",
         "claims": ["2d_outliers"], "numbers": _numbers_2d(changed, params, sym_rows)}
     squeezed = _squeezed(field)
@@ -223,7 +223,7 @@ def run_localization2d(params: dict, seed: int) -> dict:
                for _, obs, hyps in _frames_2d(squeezed, sq_space, params, seed, 0.0, 0,
                                               "localization2d squeezed field")]
     variants["control_asymmetric"] = {
-        "label": f"control: a field without the 180 deg symmetry (y scaled by "
+        "label": f"a field without the 180 deg symmetry (y scaled by "
                  f"{SQUEEZE_2D:g} on one half)", "kind": "control", "claims": ["2d_symmetry"],
         "numbers": {**numbers, "symmetry": _symmetry_numbers(sq_rows)}}
     return {"data": "simulated detections on the AdultSize field (substitute for the "
