@@ -159,13 +159,20 @@ def _table_3d(n, high):
     return {f"{m}@{o}": n[f"{m}@{o}"] for m in ("clap", "ransac") for o in high}
 
 
-def _judge_3d(outputs):
+def _at_high_ratios(outputs):
+    """``numbers, ratios, CLAP's, RANSAC's`` at the ratios above 50 %, or None."""
     n = outputs["localization3d"]["numbers"]
     high = _high_ratios(n)
     if not high:
+        return None
+    return n, high, [n[f"clap@{o}"] for o in high], [n[f"ransac@{o}"] for o in high]
+
+
+def _judge_3d(outputs):
+    found = _at_high_ratios(outputs)
+    if found is None:
         return _NO_HIGH_RATIOS
-    c = [n[f"clap@{o}"] for o in high]
-    r = [n[f"ransac@{o}"] for o in high]
+    n, high, c, r = found
     diff = [rates_differ(a["ok"], a["n"], b["ok"], b["n"]) for a, b in zip(c, r, strict=True)]
     robust = all(a["ok"] >= 0.8 for a in c)
     verdict = ("reproduced" if all(d > 0 for d in diff) and robust else
@@ -176,12 +183,10 @@ def _judge_3d(outputs):
 
 
 def _judge_3d_spurious(outputs):
-    n = outputs["localization3d"]["numbers"]
-    high = _high_ratios(n)
-    if not high:
+    found = _at_high_ratios(outputs)
+    if found is None:
         return _NO_HIGH_RATIOS
-    c = [n[f"clap@{o}"] for o in high]
-    r = [n[f"ransac@{o}"] for o in high]
+    n, high, c, r = found
     # +1: RANSAC returns a wrong pose more often than CLAP at that ratio; "no pose" is not wrong
     wrong = [rates_differ(b["wrong"], b["n"], a["wrong"], a["n"])
              for a, b in zip(c, r, strict=True)]
