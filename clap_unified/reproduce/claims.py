@@ -25,7 +25,8 @@ VERDICTS = ("reproduced", "partly reproduced", "not reproduced", "data unavailab
 WHY = ("data unavailable", "unspecified in the paper", "a choice")
 #: Kinds of variant an experiment may report beside the paper's protocol: a reasonable
 #: alternative, one of the package's extensions, or a control (a perturbed method or data set
-#: that shows the rule can say "not reproduced").
+#: that shows the rule can reach the other verdict: "not reproduced" for a reproduced claim, a
+#: win for CLAP against a crippled baseline for one that is not).
 VARIANT_KINDS = ("sensitivity", "extension", "control")
 
 #: Two success rates differ only when they differ by more than this (and by 2 standard errors).
@@ -564,7 +565,8 @@ def evaluate_claims(outputs: dict, skipped: dict | None = None) -> list[dict]:
     experiments' ``{"paper", "here", "why"}``); ``sensitivity`` (the verdict
     under each sensitivity and extension variant: ``{"key", "change",
     "kind", "verdict", "measured"}``); ``controls`` (the same under the
-    controls, which are meant to give "not reproduced"); ``depends_on``
+    controls: perturbed methods or data sets under which the rule must reach
+    the other verdict, so that it is seen to be able to); ``depends_on``
     (the changes under which the verdict differs) and ``summary`` (the
     verdict, with "depends on ..." when ``depends_on`` is not empty).
 
