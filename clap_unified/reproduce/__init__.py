@@ -9,8 +9,8 @@ tables and the figures into ``DIR`` (:func:`reproduce`).
 from . import exp_homography, exp_localization  # noqa: F401  (register the experiments)
 from .claims import CLAIMS, VERDICTS, chapter_claims, evaluate_claims, verdict_lines
 from .registry import EXPERIMENTS, seed_for
-from .runner import MissingDataError, Reproduction, claims_markdown, reproduce
+from .runner import MissingDataError, Reproduction, claims_markdown, reproduce, verdicts_markdown
 
 __all__ = ["CLAIMS", "EXPERIMENTS", "VERDICTS", "MissingDataError", "Reproduction",
            "chapter_claims", "claims_markdown", "evaluate_claims", "reproduce", "seed_for",
-           "verdict_lines"]
+           "verdict_lines", "verdicts_markdown"]

@@ -36,7 +36,7 @@ from .data import missing_datasets
 from .registry import EXPERIMENTS, finite_or_none, seed_for
 
 __all__ = ["MissingDataError", "Reproduction", "claims_markdown", "reproduce", "run_experiment",
-           "write_atomic"]
+           "verdicts_markdown", "write_atomic"]
 
 #: Bump when the cache format changes.
 CACHE_FORMAT = 1
@@ -418,6 +418,35 @@ def claims_markdown(claims, details: bool = True) -> str:
                 lines += ["", "| alternative | kind | verdict | measured |", "|---|---|---|---|"]
                 lines += [_row([r["change"], r["kind"], f"**{r['verdict']}**", r["measured"]])
                           for r in rows]
+    return "\n".join(lines) + "\n"
+
+
+def verdicts_markdown(claims) -> str:
+    """A short table of the verdicts: on the paper's protocol, how many alternatives change it
+    (and to what), and the controls' verdicts. The decision guide shows it.
+
+    Examples
+    --------
+    >>> claim = {"key": "k", "verdict": "reproduced", "depends_on": [],
+    ...          "sensitivity": [{"verdict": "reproduced"}],
+    ...          "controls": [{"verdict": "not reproduced"}]}
+    >>> print(verdicts_markdown([claim]))
+    | claim | on the paper's protocol | alternatives that change it | controls |
+    |---|---|---|---|
+    | k | **reproduced** | none of 1 | not reproduced |
+    <BLANKLINE>
+    """
+    lines = ["| claim | on the paper's protocol | alternatives that change it | controls |",
+             "|---|---|---|---|"]
+    for c in claims:
+        alt = c.get("sensitivity", [])
+        flips = [r["verdict"] for r in alt if r["verdict"] != c["verdict"]
+                 and r["verdict"] != "data unavailable"]
+        changed = (f"{len(flips)} of {len(alt)}: "
+                   + ", ".join(f"{flips.count(v)} {v}" for v in dict.fromkeys(flips))
+                   if flips else f"none of {len(alt)}")
+        controls = ", ".join(r["verdict"] for r in c.get("controls", [])) or "-"
+        lines.append(_row([c["key"], f"**{c['verdict']}**", changed, controls]))
     return "\n".join(lines) + "\n"
 
 
