@@ -73,8 +73,12 @@ def test_clap_is_deterministic_for_a_seed():
                                               ("median", "trim"), ("log_euclidean", "trim"),
                                               ("medoid", "mad")])
 def test_every_centre_of_the_paper_finds_the_cluster(centre, rejection):
+    # inside the densest cluster: over all 400 candidates (the paper's protocol), the 0.8^5 =
+    # 33 % left after trimming still hold wrong candidates at 40 % outlier matches, and a mean
+    # (unlike the medoid) is pulled by them
     data = pair_matches(seed=2, outliers=0.4)
-    res = clap_homography(data, centre=centre, rejection=rejection, refine=False, rng=0)
+    res = clap_homography(data, centre=centre, rejection=rejection, refine=False, rng=0,
+                          neighbourhood="bandwidth")
     assert res.success and corner_error(res.model, H_TRUE, SIZE) < 10.0
 
 
