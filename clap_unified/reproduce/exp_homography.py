@@ -455,7 +455,7 @@ def _mosaic_overview(mosaics: dict, title: str):
 
 #: Quick runs leave out the two costly variants (a 1000 x 1000 distance matrix, every
 #: logarithm exact); full runs have every variant.
-QUICK_VARIANTS = tuple(v.key for v in VARIANTS if v.max_seeds is None)
+QUICK_VARIANTS = [v.key for v in VARIANTS if v.max_seeds is None]  # JSON-like: the cache key
 
 experiment("homography_synthetic",
            "Image stitching S01-S12 (substitute): Lie distance to the ground truth",
