@@ -23,7 +23,14 @@ shown as a modern reference. Every output also states the protocol
 (``variants``, :data:`VARIANTS`: sensitivity to one change, or a control, a
 crippled method or data set under which the claims' rules must fail). The
 variants reuse the primary's matches, seeds and, where a method is unchanged,
-its rows.
+its rows; their tables hold CLAP's and RANSAC's rows only (MAGSAC++ and the
+ordered CLAP of EVD are in the primary tables), each variant's ``numbers``
+add ``same_as_primary``, per method the share of runs whose estimate is the
+primary's, and costly variants run fewer seeds (their labels say so).
+Output keys beyond the registry's: ``protocol`` (one line), ``deviations``
+(``{paper, here, why}``), ``variants`` (``{key: {label, kind, numbers,
+tables}}``, ``kind`` one of ``"sensitivity"``, ``"extension"``,
+``"control"``).
 """
 
 from __future__ import annotations
@@ -165,19 +172,21 @@ def _key(label, name, opts) -> tuple:
 
 
 def _same_share(rows, base, key) -> dict:
-    """Per method, the share of runs whose ``key`` equals the primary's (to 1e-9)."""
+    """Per method, the share of runs whose ``key`` equals the primary's (to 1e-9; both None:
+    both failed)."""
     ref = {(r["pair"], r["method"], r.get("seed_index", 0)): r[key] for r in base}
     out = {}
     for label in dict.fromkeys(r["method"] for r in rows):
-        same = [ref.get((r["pair"], label, r.get("seed_index", 0)), "missing") is not None
-                and _close(r[key], ref.get((r["pair"], label, r.get("seed_index", 0))))
+        same = [_close(r[key], ref.get((r["pair"], label, r.get("seed_index", 0)), "missing"))
                 for r in rows if r["method"] == label]
         out[label] = float(np.mean(same)) if same else None
     return out
 
 
 def _close(a, b) -> bool:
-    if a is None or b is None or b == "missing":
+    if isinstance(b, str):  # no primary run to compare with
+        return False
+    if a is None or b is None:
         return a is None and b is None
     return abs(a - b) <= 1e-9 * max(1.0, abs(b))
 
