@@ -53,9 +53,10 @@ def reuse_pairwise_distances(size: int = 4):
     :meth:`~clap_unified.geometry.homography_frame.HomographyInFrame.pairwise_distance`
     of a single set (``points_b`` None) keeps its last ``size`` matrices, keyed
     by the frame, the metric and the homographies' bytes, and returns the kept
-    matrix (read-only) when asked again: several estimates on the same candidates (e.g. CLAP with and without
-    the polish, or trimming over all candidates and inside a cluster) then pay
-    for the distances once. The answers are those computed without the block.
+    matrix (read-only) when asked again: several estimates on the same
+    candidates (e.g. CLAP with and without the polish, or trimming over all
+    candidates and inside a cluster) then pay for the distances once. The
+    answers are those computed without the block.
 
     Examples
     --------
