@@ -139,6 +139,12 @@ VARIANTS = (
     Variant("bandwidth_double", "trim_in_cluster with the bandwidth quantile doubled (4 %; the "
             "primary, over all candidates, has no bandwidth)", "sensitivity",
             {**_TRIM_IN_CLUSTER, "bandwidth_quantile": 0.04}),
+    Variant("min_support_half", "trim_in_cluster with the minimum support of a cluster lowered "
+            "from 3 to 2 candidates (the primary, over all candidates, has none)", "sensitivity",
+            {**_TRIM_IN_CLUSTER, "min_support": 2}),
+    Variant("min_support_double", "trim_in_cluster with the minimum support of a cluster raised "
+            "from 3 to 6 candidates (the primary, over all candidates, has none)", "sensitivity",
+            {**_TRIM_IN_CLUSTER, "min_support": 6}),
     Variant("equal_budget_400", "RANSAC with 400 iterations, CLAP's candidate count",
             "sensitivity", None, {"n_hypotheses": 400}),
     Variant("equal_budget_1000", "CLAP with 1000 candidates, RANSAC's iteration count",
