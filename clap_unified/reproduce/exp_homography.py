@@ -477,7 +477,7 @@ experiment("homography_synthetic",
            quick={"images_per_set": 2, "seeds": 2, "variants": QUICK_VARIANTS},
            full={"images_per_set": 3, "seeds": 5, "variant_seeds": 3},
            datasets=(), figures=lambda out: figures_lie(out, "synthetic"),
-           expected_seconds=(15.0, 65.0), version=2)(run_homography_synthetic)
+           expected_seconds=(7.0, 70.0), version=2)(run_homography_synthetic)
 
 
 experiment("homography_vpg", "Image stitching S01-S12 on the real VPG data, when it is here",
@@ -515,7 +515,7 @@ experiment("homography_homogr", "homogr: Lie distance to the ground truth (real 
            full={"pairs": None, "seeds": 5, "variant_seeds": 3},
            datasets=("homography",),
            figures=lambda out: figures_lie(out, "homogr"),
-           expected_seconds=(5.0, 25.0), version=2)(run_homography_homogr)
+           expected_seconds=(3.0, 25.0), version=2)(run_homography_homogr)
 
 
 def run_homography_evd(params: dict, seed: int) -> dict:
@@ -564,7 +564,7 @@ def figures_evd(output: dict) -> dict:
 
 experiment("homography_evd", "EVD: extreme views, 2-51 % inliers",
            quick={"variants": QUICK_VARIANTS}, full={}, datasets=("homography",),
-           figures=figures_evd, expected_seconds=(3.0, 6.0), version=2)(run_homography_evd)
+           figures=figures_evd, expected_seconds=(1.5, 5.0), version=2)(run_homography_evd)
 
 
 # ------------------------------------------------------------------ S13-S36
@@ -716,5 +716,5 @@ def figures_stitching_real(output: dict) -> dict:
 experiment("stitching_real", "Image stitching S13-S36 (substitute): SRE and inlier ratio",
            quick={"max_side": 800, "pairs_per_set": 1, "variants": QUICK_VARIANTS},
            full={"max_side": 1200, "pairs_per_set": 5}, datasets=("stitching_sets",),
-           figures=figures_stitching_real, expected_seconds=(12.0, 40.0),
+           figures=figures_stitching_real, expected_seconds=(8.0, 40.0),
            version=2)(run_stitching_real)
