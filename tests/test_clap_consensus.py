@@ -233,3 +233,29 @@ def test_neighbourhood_all_trims_over_every_hypothesis():
     assert not few.success and "min_support" in few.reason
     with pytest.raises(ValueError, match="neighbourhood"):
         fit(space, pts, "clap", threshold=0.05, neighbourhood="everything")
+
+
+def test_reused_distances_equal_fresh_ones_and_stay_in_their_thread():
+    import threading
+
+    from clap_unified.geometry.homography_frame import HomographyInFrame, reuse_pairwise_distances
+
+    m, _, _ = _decoy_pair(4)
+    space = HomographySpace.for_data(m, metric="lie")
+    models = space.hypotheses(m, 60, rng=0).models
+    g = space.manifold
+    fresh = g.pairwise_distance(models)
+    with reuse_pairwise_distances(size=1):
+        kept = g.pairwise_distance(models)
+        np.testing.assert_array_equal(kept, fresh)
+        assert g.pairwise_distance(models.copy()) is kept and not kept.flags.writeable
+        linear = HomographyInFrame(g.T1, g.T2, metric="lie_linear").pairwise_distance(models)
+        assert not np.array_equal(linear, kept)  # another metric, another matrix
+        assert g.pairwise_distance(models) is not kept  # evicted (size 1)
+        seen = []
+        worker = threading.Thread(
+            target=lambda: seen.append(g.pairwise_distance(models).flags.writeable))
+        worker.start()
+        worker.join()
+        assert seen == [True]  # another thread is outside the block
+    assert g.pairwise_distance(models).flags.writeable

@@ -33,6 +33,7 @@ from __future__ import annotations
 
 import contextlib
 import hashlib
+import threading
 
 import numpy as np
 
@@ -42,13 +43,13 @@ from .homography import Homography, _check_invertible, normalise_h33
 
 __all__ = ["HomographyInFrame", "reuse_pairwise_distances"]
 
-#: The all-pairs matrices kept inside :func:`reuse_pairwise_distances` (None outside).
-_REUSED: dict | None = None
+#: Per thread, the all-pairs matrices kept inside :func:`reuse_pairwise_distances`.
+_LOCAL = threading.local()
 
 
 @contextlib.contextmanager
 def reuse_pairwise_distances(size: int = 4):
-    """Within the block, all-pairs distances of one set of homographies are computed once.
+    """Within the block (in this thread), all-pairs distances of one set are computed once.
 
     :meth:`~clap_unified.geometry.homography_frame.HomographyInFrame.pairwise_distance`
     of a single set (``points_b`` None) keeps its last ``size`` matrices, keyed
@@ -68,12 +69,12 @@ def reuse_pairwise_distances(size: int = 4):
     >>> a is b, a.flags.writeable, bool(np.array_equal(a, g.pairwise_distance(H)))
     (True, False, True)
     """
-    global _REUSED
-    outer, _REUSED = _REUSED, {"size": int(size), "kept": {}}
+    outer = getattr(_LOCAL, "reused", None)
+    _LOCAL.reused = {"size": int(size), "kept": {}}
     try:
         yield
     finally:
-        _REUSED = outer
+        _LOCAL.reused = outer
 
 
 def _first_order(Ainv, A, B, Binv) -> np.ndarray:
@@ -261,18 +262,19 @@ class HomographyInFrame(Homography):
 
         Inside :func:`reuse_pairwise_distances` the matrix of a single set is kept.
         """
-        if _REUSED is None or points_b is not None:
+        reused = getattr(_LOCAL, "reused", None)
+        if reused is None or points_b is not None:
             return self._pairwise_distance(points_a, points_b)
         pts = np.ascontiguousarray(points_a, dtype=float)
         key = hashlib.sha1(b"".join(
             [self.T1.tobytes(), self.T2.tobytes(), pts.tobytes(), str(pts.shape).encode(),
              f"{self.metric} {self.normalization} {self.screen!r}".encode()])).hexdigest()
-        kept = _REUSED["kept"]
+        kept = reused["kept"]
         if key not in kept:
             out = self._pairwise_distance(pts)
             out.flags.writeable = False
             kept[key] = out
-            while len(kept) > _REUSED["size"]:
+            while len(kept) > reused["size"]:
                 kept.pop(next(iter(kept)))
         return kept[key]
 
