@@ -1,10 +1,11 @@
 """Benchmark: CLAP's time and peak memory against the number of hypotheses H and of data N.
 
 For homographies (the library's default ``"clap"``, whose density queries run
-on a k-d tree, and the paper's ``"clap_paper"``, which builds the H x H
-distance matrix) and lines, on seeded synthetic problems with half outliers:
-median wall time of ``--repeat`` runs, the peak memory traced by
-``tracemalloc`` and the slopes of log time and log memory against log size.
+on a k-d tree, and ``"clap_densest"``, the earlier reading of the paper's
+protocol, which builds the H x H distance matrix) and lines, on seeded
+synthetic problems with half outliers: median wall time of ``--repeat`` runs,
+the peak memory traced by ``tracemalloc`` and the slopes of log time and log
+memory against log size.
 Not a test: run it with ``make bench`` or ``python bench/bench_scaling.py``.
 """
 

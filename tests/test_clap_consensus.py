@@ -106,7 +106,7 @@ def test_paper_protocol_keeps_its_own_name():
     assert strategy_of("clap_paper") == "clap" and "clap_paper" in method_names()
     m, _, _ = _decoy_pair(2)
     res = estimate_homography(m, "clap_paper", rng=0)
-    assert res.method == "clap_paper" and res.space.manifold.metric == "lie_linear"
+    assert res.method == "clap_paper" and res.space.manifold.metric == "lie"
     assert PROTOCOLS["clap"]["select"] == "consensus"
 
 
@@ -200,3 +200,62 @@ def test_answers_merge_when_their_distance_is_exactly_the_bandwidth(metric):
     assert kept[0].members.tolist() == [0, 1, 2] and len(costs) == 1
     kept, _ = _by_consensus(space, m, clusters, 3.0, 0, bandwidth=np.nextafter(d, 0))
     assert len(kept) == 2
+
+
+def test_neighbourhood_all_trims_over_every_hypothesis():
+    """``neighbourhood="all"``: one cluster, the trimmed medoid of all the hypotheses."""
+    from clap_unified.clap.rejection import trimmed_medoid_index
+    from clap_unified.spaces import LineSpace
+
+    rng = np.random.default_rng(7)
+    x = rng.uniform(-5, 5, 120)
+    pts = np.c_[x, 0.5 * x + 1 + rng.normal(0, 0.01, 120)]
+    pts[:40] = rng.uniform(-5, 5, (40, 2))
+    space = LineSpace.for_data(pts)
+    hyps = space.hypotheses(pts, 200, rng=1)
+    res = fit(space, pts, "clap", hypotheses=hyps, threshold=0.05, neighbourhood="all",
+              rounds=5, discard_fraction=0.2, refine=False, bandwidth=1e-9)
+    assert res.success and len(res.clusters) == 1 and res.clusters[0].support == len(hyps)
+    assert res.diagnostics["neighbourhood"] == "all" and "bandwidth" not in res.diagnostics
+    best, keep = trimmed_medoid_index(space.manifold.pairwise_distance(hyps.models),
+                                      rounds=5, discard_fraction=0.2)
+    np.testing.assert_array_equal(res.model, hyps.models[best])
+    np.testing.assert_array_equal(np.sort(res.clusters[0].members), np.flatnonzero(keep))
+    # a tiny bandwidth finds no cluster at min_support 3: the bandwidth plays no part above
+    assert not fit(space, pts, "clap", hypotheses=hyps, threshold=0.05, bandwidth=1e-9,
+                   refine=False).success
+    # another robust centre over all of them; and too few hypotheses is a failed estimate
+    mad = fit(space, pts, "clap", hypotheses=hyps, threshold=0.05, neighbourhood="all",
+              rejection="mad", refine=False)
+    assert mad.success and mad.clusters[0].support == len(hyps)
+    few = fit(space, pts, "clap", hypotheses=space.hypotheses(pts, 2, rng=1), threshold=0.05,
+              neighbourhood="all")
+    assert not few.success and "min_support" in few.reason
+    with pytest.raises(ValueError, match="neighbourhood"):
+        fit(space, pts, "clap", threshold=0.05, neighbourhood="everything")
+
+
+def test_reused_distances_equal_fresh_ones_and_stay_in_their_thread():
+    import threading
+
+    from clap_unified.geometry.homography_frame import HomographyInFrame, reuse_pairwise_distances
+
+    m, _, _ = _decoy_pair(4)
+    space = HomographySpace.for_data(m, metric="lie")
+    models = space.hypotheses(m, 60, rng=0).models
+    g = space.manifold
+    fresh = g.pairwise_distance(models)
+    with reuse_pairwise_distances(size=1):
+        kept = g.pairwise_distance(models)
+        np.testing.assert_array_equal(kept, fresh)
+        assert g.pairwise_distance(models.copy()) is kept and not kept.flags.writeable
+        linear = HomographyInFrame(g.T1, g.T2, metric="lie_linear").pairwise_distance(models)
+        assert not np.array_equal(linear, kept)  # another metric, another matrix
+        assert g.pairwise_distance(models) is not kept  # evicted (size 1)
+        seen = []
+        worker = threading.Thread(
+            target=lambda: seen.append(g.pairwise_distance(models).flags.writeable))
+        worker.start()
+        worker.join()
+        assert seen == [True]  # another thread is outside the block
+    assert g.pairwise_distance(models).flags.writeable

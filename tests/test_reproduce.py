@@ -408,3 +408,25 @@ def test_similar_accuracy_needs_a_confident_majority():
     assert verdict(14, 21) == "partly reproduced"  # most pairs, but not with confidence
     assert verdict(3, 5) == "partly reproduced"
     assert verdict(2, 5) == "not reproduced"
+
+
+def test_homography_outputs_state_protocol_deviations_and_variants(serial_run):
+    from clap_unified.reproduce.exp_homography import QUICK_VARIANTS
+
+    out, _ = serial_run
+    doc = json.loads((out / "experiments" / "homography_homogr.json").read_text())["output"]
+    assert doc["protocol"].startswith("the paper's, as written")
+    assert doc["deviations"] and all(set(d) == {"paper", "here", "why"}
+                                     for d in doc["deviations"])
+    variants = doc["variants"]
+    assert set(variants) == set(QUICK_VARIANTS) - {"extra_outliers"}  # a data control of 5b
+    for item in variants.values():
+        assert item["kind"] in {"sensitivity", "extension", "control"} and item["label"]
+        assert {r["method"] for r in item["tables"]["lie"]} == {"CLAP", "RANSAC"}
+        assert {r["seed_index"] for r in item["tables"]["stability"]} == {0, 1}
+        assert set(item["numbers"]["median_lie"]) == {"CLAP", "RANSAC"}
+    # a method that a variant leaves alone keeps the primary's runs
+    same = {k: v["numbers"]["same_as_primary"] for k, v in variants.items()}
+    assert same["equal_budget_400"]["CLAP"] == 1.0 and same["ransac_10"]["CLAP"] == 1.0
+    assert same["lie_linear"]["RANSAC"] == 1.0 and same["ransac_10"]["RANSAC"] < 1.0
+    assert any(v["kind"] == "control" for v in variants.values())

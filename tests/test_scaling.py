@@ -8,14 +8,14 @@ from clap_unified.reproduce.scaling import loglog_slope, scaling_problem, scalin
 
 def test_rows_have_every_key_and_positive_figures():
     rows = scaling_runs("homography", [60, 120], repeat=1)
-    assert {r["method"] for r in rows} == {"clap", "clap_paper"}
+    assert {r["method"] for r in rows} == {"clap", "clap_densest"}
     for r in rows:
         assert set(r) == {"kind", "vary", "method", "size", "seconds", "peak_mb", "success"}
         assert r["seconds"] > 0 and r["peak_mb"] > 0 and r["success"]
 
 
 def test_the_matrix_path_needs_more_memory_with_more_hypotheses():
-    rows = scaling_runs("homography", [200, 1600], methods=["clap_paper"], repeat=1)
+    rows = scaling_runs("homography", [200, 1600], methods=["clap_densest"], repeat=1)
     assert rows[1]["peak_mb"] > 4 * rows[0]["peak_mb"]
 
 

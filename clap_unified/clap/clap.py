@@ -86,7 +86,7 @@ def run_clap(space, data, hypotheses: HypothesisSet, *, threshold: float, prior=
              rounds: int = 5, discard_fraction: float = 0.2, mad_k: float = 3.0,
              max_clusters: int = 5, min_support: int = 3, suppress: float = 3.0,
              prune: bool = False, density: str = "count", k: int = 2, select: str = "support",
-             n_refine: int = 3) -> Consensus:
+             n_refine: int = 3, neighbourhood: str = "bandwidth") -> Consensus:
     """The CLAP strategy: the centre of the densest cluster of hypotheses.
 
     Called by :func:`~clap_unified.fit`, which generates the hypotheses, gates
@@ -162,6 +162,21 @@ def run_clap(space, data, hypotheses: HypothesisSet, *, threshold: float, prior=
     n_refine : int
         With ``select="consensus"``: cluster centres refined before the final
         ranking.
+    neighbourhood : {"bandwidth", "all"}
+        Global mode: what the robust centre is found over. ``"bandwidth"``:
+        the hypotheses within ``bandwidth`` of each seed (clusters by
+        density, as above). ``"all"``: every hypothesis is one neighbourhood;
+        the answer is the robust single centre of all of them (with
+        ``rejection="trim"``: the medoid of all, then ``rounds`` rounds each
+        discarding the ``discard_fraction`` farthest from the current
+        centre), one cluster, no bandwidth, seeds or suppression (the
+        options ``bandwidth``, ``bandwidth_quantile``, ``density``, ``k``,
+        ``suppress``, ``max_clusters`` and ``prune`` then play no part).
+        This is the paper's homography protocol read literally ("iterative
+        clustering for 5 rounds, and discard 20 % of the outliers at each
+        iteration" over the 400 candidates); it fails with fewer than
+        ``min_support`` hypotheses. Ignored in local mode (the prior's gate
+        is the neighbourhood).
 
     Returns
     -------
@@ -174,6 +189,7 @@ def run_clap(space, data, hypotheses: HypothesisSet, *, threshold: float, prior=
     check_choice(rejection, "rejection", {"trim", "mad", "none"})
     check_choice(select, "select", {"support", "consensus"})
     check_choice(density, "density", {"count", "knn"})
+    check_choice(neighbourhood, "neighbourhood", {"bandwidth", "all"})
     k = check_int(k, "k", minimum=1)
     n_refine = check_int(n_refine, "n_refine", minimum=0)
     max_clusters = check_int(max_clusters, "max_clusters", minimum=1)
@@ -222,6 +238,21 @@ def run_clap(space, data, hypotheses: HypothesisSet, *, threshold: float, prior=
             c, keep = _robust_centre(manifold, local, distances=sub, **robust)
             kept = np.flatnonzero(keep)
             clusters.append(_cluster(manifold, c, local, kept, support=support,
+                                     members=near[kept]))
+    elif neighbourhood == "all":
+        diag["neighbourhood"] = "all"
+        if h < min_support:
+            return Consensus.failed(f"only {h} hypotheses (min_support={min_support})", **diag)
+        near = even_subset(np.arange(h), DENSE_LIMIT)  # a giant set: centred on a subset
+        if centre == "medoid" and rejection == "trim":  # all from the one matrix
+            sub = manifold.pairwise_distance(models[near])
+            b, keep = trimmed_medoid_index(sub, rounds=rounds, discard_fraction=discard_fraction)
+            clusters.append(Cluster(models[near[b]], h, _median(sub[b, keep]), near[keep]))
+        else:
+            sub = manifold.pairwise_distance(models[near]) if centre == "medoid" else None
+            c, keep = _robust_centre(manifold, models[near], distances=sub, **robust)
+            kept = np.flatnonzero(keep)
+            clusters.append(_cluster(manifold, c, models[near], kept, support=h,
                                      members=near[kept]))
     else:
         index = np.arange(h)

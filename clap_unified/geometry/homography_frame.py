@@ -31,13 +31,50 @@ Neither is a true metric (see :func:`~clap_unified.geometry.homography.lie_dista
 
 from __future__ import annotations
 
+import contextlib
+import hashlib
+import threading
+
 import numpy as np
 
 from .._validation import check_array, check_choice
 from ._matrix import expm, logm
 from .homography import Homography, _check_invertible, normalise_h33
 
-__all__ = ["HomographyInFrame"]
+__all__ = ["HomographyInFrame", "reuse_pairwise_distances"]
+
+#: Per thread, the all-pairs matrices kept inside :func:`reuse_pairwise_distances`.
+_LOCAL = threading.local()
+
+
+@contextlib.contextmanager
+def reuse_pairwise_distances(size: int = 4):
+    """Within the block (in this thread), all-pairs distances of one set are computed once.
+
+    :meth:`~clap_unified.geometry.homography_frame.HomographyInFrame.pairwise_distance`
+    of a single set (``points_b`` None) keeps its last ``size`` matrices, keyed
+    by the frame, the metric and the homographies' bytes, and returns the kept
+    matrix (read-only) when asked again: several estimates on the same
+    candidates (e.g. CLAP with and without the polish, or trimming over all
+    candidates and inside a cluster) then pay for the distances once. The
+    answers are those computed without the block.
+
+    Examples
+    --------
+    >>> T = np.diag([1 / 320, 1 / 240, 1.0])
+    >>> g = HomographyInFrame(T, T)
+    >>> H = np.stack([np.eye(3), np.diag([1.1, 1.0, 1.0])])
+    >>> with reuse_pairwise_distances():
+    ...     a, b = g.pairwise_distance(H), g.pairwise_distance(H.copy())
+    >>> a is b, a.flags.writeable, bool(np.array_equal(a, g.pairwise_distance(H)))
+    (True, False, True)
+    """
+    outer = getattr(_LOCAL, "reused", None)
+    _LOCAL.reused = {"size": int(size), "kept": {}}
+    try:
+        yield
+    finally:
+        _LOCAL.reused = outer
 
 
 def _first_order(Ainv, A, B, Binv) -> np.ndarray:
@@ -221,7 +258,27 @@ class HomographyInFrame(Homography):
         return d
 
     def pairwise_distance(self, points_a, points_b=None) -> np.ndarray:
-        """All ``(N, M)`` distances; screened products instead of ``N M`` logarithms."""
+        """All ``(N, M)`` distances; screened products instead of ``N M`` logarithms.
+
+        Inside :func:`reuse_pairwise_distances` the matrix of a single set is kept.
+        """
+        reused = getattr(_LOCAL, "reused", None)
+        if reused is None or points_b is not None:
+            return self._pairwise_distance(points_a, points_b)
+        pts = np.ascontiguousarray(points_a, dtype=float)
+        key = hashlib.sha1(b"".join(
+            [self.T1.tobytes(), self.T2.tobytes(), pts.tobytes(), str(pts.shape).encode(),
+             f"{self.metric} {self.normalization} {self.screen!r}".encode()])).hexdigest()
+        kept = reused["kept"]
+        if key not in kept:
+            out = self._pairwise_distance(pts)
+            out.flags.writeable = False
+            kept[key] = out
+            while len(kept) > reused["size"]:
+                kept.pop(next(iter(kept)))
+        return kept[key]
+
+    def _pairwise_distance(self, points_a, points_b=None) -> np.ndarray:
         A, Ainv = self._frame_and_inverse(np.asarray(points_a, dtype=float), "points_a")
         if points_b is None:
             B, Binv = A, None

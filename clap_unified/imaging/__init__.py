@@ -5,8 +5,10 @@
   protocol (:data:`PROTOCOLS`): CLAP (the paper's), the library's DLT +
   RANSAC, a randomized Hough on CLAP's candidates and OpenCV's estimators
   (:mod:`clap_unified.external.opencv`) on the same matches;
-* the reweighted-DLT polish of CLAP's protocol is the homography space's refinement
-  (:mod:`clap_unified.spaces.homography_polish`);
+* the reweighted-DLT polish (the library's default CLAP, and ``"clap_densest"``)
+  is the homography space's refinement with ``polish``
+  (:mod:`clap_unified.spaces.homography_polish`); the paper's protocols refit
+  on the inliers without it;
 * :mod:`.metrics`: Lie distance to ground truth, corner error, symmetric
   reprojection error;
 * :mod:`.features`: SIFT and the ratio test; :mod:`.stitching`: warping and

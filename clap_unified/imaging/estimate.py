@@ -21,13 +21,23 @@ gets :data:`DEFAULT_PROTOCOL`):
   clustered again (``max_hypotheses``, see :func:`~clap_unified.fit`).
   Every other cluster is reported too: a second, coherent motion in the
   matches shows up as the second cluster;
-* ``"clap_paper"`` (the paper's, Sec. "Image Stitching Results"): 400
-  candidates clustered in the normalised frame of the matches
-  (:meth:`HomographySpace.for_data`), bandwidth the 2 % quantile of the
-  candidates' 4-NN distances, the cluster with the most candidates, robust
-  centre by 5 rounds of trimming 20 % (medoid), then re-estimation on the
-  data inliers of the centre: DLT refit and a polish by reweighted DLT
-  (``polish=True``, :mod:`~clap_unified.spaces.homography_polish`);
+* ``"clap_paper"`` (the paper's, Sec. "Image Stitching Results", as
+  written): 400 candidates compared by the paper's distance
+  ``||log(H1^-1 H2)||_F`` (``metric="lie"``) in the normalised frame of the
+  matches (:meth:`HomographySpace.for_data`; the exact logarithm for every
+  pair whose first-order distance is below 1, the first-order value beyond,
+  where no two candidates are alike); the robust single centre of *all*
+  candidates (``neighbourhood="all"``): their medoid, then 5 rounds each
+  discarding the 20 % farthest from the current medoid; then the same
+  re-estimation as RANSAC's, a DLT refit on the data inliers of the centre
+  (no polish);
+* ``"clap_densest"`` (the package's earlier reading of the same words, kept
+  for comparison): the candidates compared by the first-order distance
+  ``"lie_linear"``, bandwidth the 2 % quantile of their 4-NN distances,
+  the cluster with the most candidates, its robust centre by 5 rounds of
+  trimming 20 % (medoid), then the DLT refit and a polish by reweighted DLT
+  (``polish=True``, :mod:`~clap_unified.spaces.homography_polish`), which
+  the paper's RANSAC baseline does not get;
 * ``"ransac"``: the paper's baseline, DLT on 4-samples, a fixed budget of
   1000 trials, DLT refit on the inliers, no polish;
 * ``"randomized_hough"``: the same candidates as CLAP voted into cells of
@@ -63,18 +73,21 @@ __all__ = ["DEFAULT_PROTOCOL", "MIN_MATCHES", "PROTOCOLS", "clap_homography",
 #: Per method name, the defaults of :func:`estimate_homography`. Keys:
 #: ``strategy`` (the registered strategy a protocol of another name runs;
 #: default: the method name itself), ``frame`` (compare hypotheses in a frame
-#: of the matches, :meth:`HomographySpace.for_data`), ``metric`` (its
-#: distance), ``polish`` (the space's refinement ends with the reweighted
-#: DLT); every other key is an argument of :func:`~clap_unified.fit` or an
+#: of the matches, :meth:`HomographySpace.for_data`), ``metric`` and
+#: ``screen`` (its distance), ``polish`` (the space's refinement ends with the
+#: reweighted DLT); every other key is an argument of :func:`~clap_unified.fit` or an
 #: option of the strategy.
 PROTOCOLS = {
     "clap": {"frame": True, "metric": "transfer", "polish": 2.0, "n_hypotheses": 1000,
              "threshold": 3.0, "density": "knn", "k": 2, "bandwidth": 3.0, "suppress": 3.0,
              "rounds": 0, "max_clusters": 16, "min_support": 1, "select": "consensus",
              "n_refine": 3, "max_hypotheses": 10_000},
-    "clap_paper": {"strategy": "clap", "frame": True, "metric": "lie_linear", "polish": True,
-                   "n_hypotheses": 400, "threshold": 3.0, "bandwidth_quantile": 0.02,
-                   "rounds": 5, "discard_fraction": 0.2},
+    "clap_paper": {"strategy": "clap", "frame": True, "metric": "lie", "polish": False,
+                   "n_hypotheses": 400, "threshold": 3.0, "neighbourhood": "all",
+                   "rounds": 5, "discard_fraction": 0.2, "bandwidth_quantile": 0.02},
+    "clap_densest": {"strategy": "clap", "frame": True, "metric": "lie_linear", "polish": True,
+                     "n_hypotheses": 400, "threshold": 3.0, "bandwidth_quantile": 0.02,
+                     "rounds": 5, "discard_fraction": 0.2},
     "ransac": {"frame": False, "polish": False, "n_hypotheses": 1000, "threshold": 3.0},
     "randomized_hough": {"frame": True, "metric": "lie_linear", "polish": False,
                          "n_hypotheses": 400, "threshold": 3.0, "cell_size": 0.05},
@@ -96,7 +109,7 @@ DEFAULT_PROTOCOL = {"frame": False, "polish": False, "threshold": 3.0}
 MIN_MATCHES = 8
 
 #: Protocol keys that choose the space, not arguments of :func:`~clap_unified.fit`.
-_SPACE_KEYS = {"frame": False, "metric": "lie_linear", "polish": False}
+_SPACE_KEYS = {"frame": False, "metric": "lie_linear", "polish": False, "screen": 1.0}
 
 
 def method_names() -> tuple[str, ...]:
@@ -104,7 +117,7 @@ def method_names() -> tuple[str, ...]:
 
     Examples
     --------
-    >>> {"clap", "clap_paper", "ransac"} <= set(method_names())
+    >>> {"clap", "clap_paper", "clap_densest", "ransac"} <= set(method_names())
     True
     """
     from ..registry import strategy_names
@@ -142,11 +155,13 @@ def estimate_homography(matches, method: str = "clap", *, rng=None, quality=None
         Per-match quality, lower is better: progressive sampling of the
         hypotheses (methods that use hypotheses).
     **options
-        Override the protocol: ``polish``, ``frame``, ``metric`` (the space),
+        Override the protocol: ``polish``, ``frame``, ``metric``, ``screen`` (the space),
         :func:`~clap_unified.fit`'s arguments (``n_hypotheses``,
         ``threshold``, ``hypotheses``, ``refine``) and the strategy's options
-        (e.g. ``bandwidth_quantile``, ``centre``, ``cell_size``,
-        ``confidence``).
+        (e.g. ``neighbourhood``, ``bandwidth_quantile``, ``centre``,
+        ``cell_size``, ``confidence``). With ``"clap_paper"``,
+        ``neighbourhood="bandwidth"`` trims inside the densest cluster instead
+        (bandwidth from ``bandwidth_quantile``).
 
     Returns
     -------
@@ -185,9 +200,9 @@ def estimate_homography(matches, method: str = "clap", *, rng=None, quality=None
         elif "n_hypotheses" in options:  # a budget above the protocol's cap raises the cap
             settings["max_hypotheses"] = max(settings["max_hypotheses"],
                                              int(options["n_hypotheses"]))
-    frame, metric, polish = (settings.pop(k) for k in _SPACE_KEYS)
-    space = (HomographySpace.for_data(data, metric=metric, polish=polish) if frame
-             else HomographySpace(polish=polish))
+    frame, metric, polish, screen = (settings.pop(k) for k in _SPACE_KEYS)
+    space = (HomographySpace.for_data(data, metric=metric, polish=polish, screen=screen)
+             if frame else HomographySpace(polish=polish))
     sampling = None if quality is None else {"quality": quality}
     res = fit(space, data, strategy, rng=rng, sampling=sampling, **settings)
     return res if strategy == method else res.replace(method=method)

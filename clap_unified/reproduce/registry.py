@@ -11,7 +11,12 @@ The output of ``run`` is JSON data::
     {"data": "what the numbers were computed on (a substitute says so)",
      "tables": {"name": [row dict, ...]},   # written as CSV
      "numbers": {"key": value, ...},        # what the claims read
-     "artifacts": {...}}                    # anything the figures need
+     "artifacts": {...},                    # anything the figures need
+     # optional (the homography experiments):
+     "protocol": "one line: the protocol of the primary numbers",
+     "deviations": [{"paper": ..., "here": ..., "why": ...}, ...],
+     "variants": {"key": {"label": ..., "kind": "sensitivity" | "extension" | "control",
+                          "numbers": {...}, "tables": {...}}}}  # same formats as above
 
 Timings are kept apart by the runner: they are the only part of a run that
 may differ between two runs.

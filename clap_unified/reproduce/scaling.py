@@ -16,9 +16,11 @@ Two kinds of problem:
 * ``"homography"``: matches of a planar homography, half of them uniform
   outliers (noise 0.5 px), fitted by :func:`~clap_unified.imaging.estimate_homography`
   with the library's default ``"clap"`` (k-d tree density: ``O(H log H)``
-  time, ``O(H)`` memory) and the paper's ``"clap_paper"`` (an ``H x H``
-  distance matrix up to ``DENSE_LIMIT`` of :mod:`clap_unified.clap.clap`
-  hypotheses, blocks beyond);
+  time, ``O(H)`` memory) and ``"clap_densest"``, the package's earlier
+  reading of the paper's protocol (an ``H x H`` first-order distance matrix
+  up to ``DENSE_LIMIT`` of :mod:`clap_unified.clap.clap` hypotheses, blocks
+  beyond; the paper's protocol as written, ``"clap_paper"``, builds the same
+  matrix with matrix logarithms);
 * ``"line"``: points on a line, half of them outliers, fitted by
   :func:`~clap_unified.fit_line` with ``"clap"`` (lines compared by the
   anchor-transfer metric: k-d tree density, as for homographies).
@@ -36,7 +38,7 @@ from .._validation import check_choice, check_int
 __all__ = ["compiled_speedup", "loglog_slope", "scaling_problem", "scaling_runs"]
 
 #: Methods measured per kind of problem.
-METHODS = {"homography": ("clap", "clap_paper"), "line": ("clap",)}
+METHODS = {"homography": ("clap", "clap_densest"), "line": ("clap",)}
 
 #: Data size when the hypotheses vary, and hypotheses when the data vary.
 FIXED = {"data": 1000, "hypotheses": 500}

@@ -385,9 +385,11 @@ class HomographySpace(HypothesisSpace):
     polish : bool
         :meth:`refine` finishes the DLT refit on the inliers with a
         reweighted DLT on the symmetric transfer error
-        (:func:`~clap_unified.spaces.homography_polish.polish_homography`): CLAP's
-        protocol in the paper. Without it (the paper's RANSAC baseline) the
-        refit is the whole refinement. A number ``s`` polishes with weights
+        (:func:`~clap_unified.spaces.homography_polish.polish_homography`): the
+        library's default CLAP (``polish=2.0``) and the package's earlier
+        reading of the paper's CLAP (``"clap_densest"``). Without it (the
+        paper's protocol for both CLAP and RANSAC) the refit is the whole
+        refinement. A number ``s`` polishes with weights
         that reach zero at ``s`` times the inlier threshold (``True`` is 1):
         matches just beyond the threshold still pull a little, as in
         MAGSAC++'s marginalisation over noise scales; the inliers are still

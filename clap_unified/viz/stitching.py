@@ -13,6 +13,7 @@ HOMOGRAPHY_STYLE = {
     "CLAP ordered, 1000": {"color": "#0072B2", "marker": "D"},
     "RANSAC (library)": {"color": "#D55E00", "marker": "o"},
     "RANSAC + polish": {"color": "#000000", "marker": "x"},
+    "CLAP + polish": {"color": "#777777", "marker": "+"},
     "cv2.RANSAC": {"color": "#E69F00", "marker": "s"},
     "cv2.USAC_MAGSAC": {"color": "#CC79A7", "marker": "P"},
     "USAC RANSAC 1000": {"color": "#999999", "marker": "*"},
