@@ -82,8 +82,8 @@ def pose_outcome(result, truth, mirror=None) -> dict:
     """Errors and outcome of one frame: ``ok``, ``coarse``, ``wrong`` or ``none``.
 
     ``none``: no pose was returned (a failed result); never ``wrong``. ``wrong``:
-    a pose beyond :data:`GROSS_3D` of the truth; ``mirror`` says whether it is
-    within :data:`GROSS_3D` of ``mirror @ truth`` (the pose's twin under the
+    a pose beyond ``GROSS_3D`` of the truth; ``mirror`` says whether it is
+    within ``GROSS_3D`` of ``mirror @ truth`` (the pose's twin under the
     map's symmetry ``mirror``, a 4 x 4 world transform).
 
     Examples
@@ -250,10 +250,12 @@ def run_localization3d(params: dict, seed: int) -> dict:
     variants = {"other_mode": {
         "label": f"{other} mode for both methods (same candidates): "
                  + ("no gate; on the symmetric field the pose and its mirror image are "
-                    "equally supported" if other == "global" else
+                    "equally supported and the tie goes to whichever comes first in the "
+                    "candidate order" if other == "global" else
                     f"candidates gated within {GATE_3D[0]:g} m and {GATE_3D[1]:g} deg of the "
                     f"front end's guess"),
-        "kind": "sensitivity", "numbers": numbers(var_rows["other_mode"])}}
+        "kind": "sensitivity", "numbers": numbers(var_rows["other_mode"]),
+        "tables": {"errors": var_rows["other_mode"]}}}
     for key, (label, _) in clap_only.items():
         variants[key] = {"label": label, "kind": "sensitivity",
                          "numbers": numbers(ransac_rows + var_rows[key])}
