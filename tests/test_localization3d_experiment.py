@@ -140,9 +140,10 @@ def test_experiment_output_format_and_no_truth_reaches_an_estimator(monkeypatch)
     for v in out["variants"].values():
         assert set(v["numbers"]) == {"clap@0.60", "ransac@0.60"} and v["label"]
         assert all(set(x) == keys for x in v["numbers"].values())
-    assert {"other_mode", "budget_100", "lab_map", "correspondences_100", "control_gate",
+    assert {"other_mode", "budget_100", "lab_map", "correspondences_100", "control_silent",
             "min_support_half", "min_support_double", "bandwidth_half", "bandwidth_double",
-            "consensus"} == set(out["variants"])
+            "consensus", "control_ungated"} == set(out["variants"])
+    assert out["variants"]["control_silent"]["numbers"]["clap@0.60"]["none"] == 1.0
     assert all(r["outcome"] in exp.OUTCOMES_3D for r in out["tables"]["errors"])
     # seeded: the same numbers again
     assert run_localization3d(PARAMS, 7)["variants"] == out["variants"]

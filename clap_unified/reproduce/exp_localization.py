@@ -51,8 +51,8 @@ GATE_3D = (0.5, 10.0)
 BUDGET_3D = 1000
 #: CLAP's options of the primary protocol (``localize3d``'s defaults).
 CLAP_3D = {"bandwidth": 0.15, "min_support": 3, "select": "support"}
-#: The control's gate (CLAP only): the whole field, every rotation.
-CONTROL_GATE_3D = (30.0, 180.0)
+#: A control's minimum support for CLAP: more candidates than a frame has, so it never answers.
+CONTROL_SUPPORT_3D = 10_000
 #: The outcomes of a frame; ``mirror`` is a part of ``wrong``.
 OUTCOMES_3D = ("ok", "coarse", "wrong", "none")
 
@@ -156,12 +156,12 @@ def _frames_3d(landmark_map, trajectory, ratios, frames, seed, label):
                                              rng=np.random.default_rng([seed, 1, pct, f]))
 
 
-def _localize_3d(det, landmark_map, space, hyps, method, mode, gate=GATE_3D, **clap):
+def _localize_3d(det, landmark_map, space, hyps, method, mode, **clap):
     """One frame by one method: the same candidates, gate and refinement for every method."""
     from ..localization.localize3d import localize3d
 
-    local = dict(prior=det.input.prior, max_translation=gate[0],
-                 max_rotation=np.radians(gate[1])) if mode == "local" else {}
+    local = dict(prior=det.input.prior, max_translation=GATE_3D[0],
+                 max_rotation=np.radians(GATE_3D[1])) if mode == "local" else {}
     opts = {**CLAP_3D, **clap} if method == "clap" else {}
     return localize3d(det.input, landmark_map, method=method, space=space, hypotheses=hyps,
                       **{**local, **opts})
@@ -192,7 +192,7 @@ def run_localization3d(params: dict, seed: int) -> dict:
                       "detections (select='consensus') instead of the most supported",
                       {"select": "consensus"}),
     }
-    var_rows = {k: [] for k in (*clap_only, "other_mode", "control_gate",
+    var_rows = {k: [] for k in (*clap_only, "other_mode", "control_silent",
                                 *(f"budget_{b}" for b in params["budgets"]),
                                 "lab_map", *(f"correspondences_{b}"
                                              for b in params["correspondence_budgets"]))}
@@ -216,9 +216,10 @@ def run_localization3d(params: dict, seed: int) -> dict:
         for key, (_, opts) in clap_only.items():
             add(var_rows[key], o, f, "clap", det,
                 _localize_3d(det, field, space, hyps, "clap", mode, **opts), hyps)
-        # control: CLAP's gate opened to the whole field (the centre of every candidate)
-        add(var_rows["control_gate"], o, f, "clap", det,
-            _localize_3d(det, field, space, hyps, "clap", "local", gate=CONTROL_GATE_3D), hyps)
+        # control: a CLAP that never answers
+        add(var_rows["control_silent"], o, f, "clap", det,
+            _localize_3d(det, field, space, hyps, "clap", mode,
+                         min_support=CONTROL_SUPPORT_3D), hyps)
         for b in params["budgets"]:
             n = None if b == "all" else b  # None: every triplet, nothing drawn
             h = triplet_hypotheses(space, det.input.data, n,
@@ -276,12 +277,19 @@ def run_localization3d(params: dict, seed: int) -> dict:
                      f"landmark of its type under the {GUESS_3D[0]:g} m / {GUESS_3D[1]:g} deg "
                      f"guess), {b} random triplets for both methods, global mode",
             "kind": "extension", "numbers": numbers(var_rows[f"correspondences_{b}"])}
-    variants["control_gate"] = {
-        "label": "control: CLAP's local gate opened to 30 m and 180 deg (the robust centre of "
-                 "every candidate on the field: a method that is not robust), RANSAC as in "
-                 "the primary protocol", "kind": "control",
-        "claims": ["3d_outliers", "3d_spurious"],
-        "numbers": numbers(ransac_rows + var_rows["control_gate"])}
+    variants["control_silent"] = {
+        "label": f"control: CLAP with a minimum support of {CONTROL_SUPPORT_3D} (it never "
+                 "answers), RANSAC as in the primary protocol", "kind": "control",
+        "claims": ["3d_outliers"],
+        "numbers": numbers(ransac_rows + var_rows["control_silent"])}
+    local_rows, global_rows = ((primary, var_rows["other_mode"]) if mode == "local"
+                               else (var_rows["other_mode"], primary))
+    variants["control_ungated"] = {
+        "label": "control: CLAP without the gate (global mode: on the symmetric field mostly "
+                 "the mirror image), RANSAC with it (local mode), on the same candidates",
+        "kind": "control", "claims": ["3d_spurious"],
+        "numbers": numbers([r for r in local_rows if r["method"] == "ransac"]
+                           + [r for r in global_rows if r["method"] == "clap"])}
     return {
         "data": "substitute: simulated typed landmark detections (the paper's MoCap recordings "
                 "are not public) on the whole RoboCup AdultSize field in 3D (both halves, goal "
