@@ -118,8 +118,8 @@ def pose_outcome(result, truth, mirror=None) -> dict:
 
 def outcome_numbers(rows) -> dict:
     """``{"n", "ok", "wrong", "none", "mirror", "median_cm"}`` of the rows of one method
-    and ratio (shares of frames; the median translation error counts no pose as infinite;
-    None when more than half the frames have none).
+    and ratio (shares of frames; the median translation error, in cm to 5 decimals, counts no
+    pose as infinite; None when more than half the frames have none).
 
     Examples
     --------
@@ -133,8 +133,9 @@ def outcome_numbers(rows) -> dict:
     share = {k: sum(r["outcome"] == k for r in rows) / n if n else 0.0
              for k in ("ok", "wrong", "none")}
     e = [np.inf if r["e_t_m"] is None else r["e_t_m"] for r in rows]
+    # the median rounded to 0.1 um: the last bits of a pose depend on the BLAS kernel
     return {"n": n, **share, "mirror": sum(r["mirror"] for r in rows) / n if n else 0.0,
-            "median_cm": finite_or_none(np.median(e) * 100) if n else None}
+            "median_cm": finite_or_none(round(float(np.median(e)) * 100, 5)) if n else None}
 
 
 def _numbers_3d(rows, ratios) -> dict:
@@ -396,7 +397,7 @@ experiment("localization3d", "3D localization on the symmetric RoboCup field: CL
            full={"ratios": [0.0, 0.2, 0.4, 0.5, 0.6, 0.7, 0.8], "frames": 80, "mode": "local",
                  "budget": BUDGET_3D, "budgets": [300, 3000, "all"],
                  "correspondence_budgets": [300, 1000]},
-           figures=figures_localization3d, expected_seconds=(6.0, 55.0),
+           figures=figures_localization3d, expected_seconds=(8.0, 60.0),
            version=3)(run_localization3d)
 
 
