@@ -99,8 +99,8 @@ def field_map(size: str = "adult") -> LandmarkMap3D:
     Every ground feature of :func:`~clap_unified.maps.field.field_landmarks`
     (L, T and X junctions, penalty marks, centre mark, goal posts' feet) at
     ``z = 0``, and the four crossbar corners (type ``"crossbar"``) of both goals
-    at :data:`GOAL_HEIGHT`. No other markers: the map is invariant under
-    :data:`FIELD_MIRROR`, so a pose and its mirror image explain any detections
+    at ``GOAL_HEIGHT``. No other markers: the map is invariant under
+    ``FIELD_MIRROR``, so a pose and its mirror image explain any detections
     equally well.
 
     Parameters
