@@ -304,9 +304,9 @@ def run_localization3d(params: dict, seed: int) -> dict:
                        f"end's guess {GUESS_3D[0]:g} m / {GUESS_3D[1]:g} deg off the truth"
                        if mode == "local" else "")
                     + "; CLAP: trimmed medoid (5 rounds x 20 %), bandwidth 0.15, minimum "
-                      "support 3; RANSAC: most inliers within 0.15 m; both refitted on their "
-                      "inliers (weighted Kabsch); ok within 5 cm and 1 deg, wrong beyond "
-                      "0.5 m or 5 deg, none when no pose is returned",
+                      "support 3; RANSAC: most inliers within 0.15 m (at least 3); both "
+                      "refitted on their inliers (weighted Kabsch); ok within 5 cm and 1 deg, "
+                      "wrong beyond 0.5 m or 5 deg, none when no pose is returned",
         "deviations": _DEVIATIONS_3D,
         "tables": {"errors": rows}, "numbers": _numbers_3d(rows, ratios),
         "variants": variants}
