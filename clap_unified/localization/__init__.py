@@ -7,10 +7,10 @@ trajectory (:mod:`.trajectory`), an SE(2) EKF (:mod:`.ekf`), Monte Carlo
 localization (:mod:`.mcl`), the tracking comparison (:mod:`.tracking`), and
 detections merged over a window of frames by clustering in input space (:mod:`.merging`).
 
-3D (SE(3)): typed landmark maps and the MoCap lab (:mod:`.map3d`), a MoCap-like
-trajectory and detection simulator (:mod:`.scene3d`), one-frame 6-DoF localization by
-CLAP, RANSAC or Open3D (``localize3d``) and the Open3D baselines, point clouds
-included (:mod:`.open3d_baselines`).
+3D (SE(3)): typed landmark maps, the whole RoboCup field and the MoCap lab
+(:mod:`.map3d`), a MoCap-like trajectory and detection simulator (:mod:`.scene3d`),
+one-frame 6-DoF localization by CLAP, RANSAC or Open3D (``localize3d``) and the Open3D
+baselines, point clouds included (:mod:`.open3d_baselines`).
 
 Both one-frame localizers are thin: they turn their input into the data of a
 pose space and call the one pipeline, :func:`.core.localize` (hence
@@ -30,7 +30,7 @@ from .core import localize
 from .ekf import PoseEKF
 from .localize2d import as_pose, localize2d, observation_data
 from .localize3d import align_correspondences, localize3d, pose_errors
-from .map3d import LandmarkMap3D, lab_map
+from .map3d import LandmarkMap3D, field_map, lab_map
 from .mcl import ParticleFilter
 from .merging import MergedDetections, merge_detections
 from .observations import (
@@ -87,6 +87,7 @@ __all__ = [
     "as_pose",
     "associate_nearest",
     "field_landmarks",
+    "field_map",
     "lab_map",
     "load_field",
     "localize",

@@ -57,7 +57,7 @@ def localize3d(observations, landmarks, *, method: str = "clap", n_hypotheses: i
                max_clusters: int = 5, min_support: int = 3, space: Landmark3DSpace | None = None,
                hypotheses=None, prune: bool = True, prior=None, max_translation: float = 0.5,
                max_rotation: float = np.radians(10.0), open3d_iterations: int = 100000, rng=None,
-               **space_options) -> ConsensusResult:
+               select: str = "support", **space_options) -> ConsensusResult:
     """Pose ``T_world_body`` from one frame of typed 3D landmark detections.
 
     Parameters
@@ -111,6 +111,10 @@ def localize3d(observations, landmarks, *, method: str = "clap", n_hypotheses: i
         Open3D RANSAC iteration cap (its ``n_hypotheses``).
     rng : None, int or numpy.random.Generator
         Seeds triplet sampling (an integer also seeds Open3D's generator).
+    select : {"support", "consensus"}
+        CLAP: the answer is the cluster with the most candidates (the paper)
+        or the one whose refined centre best explains the detections
+        (:func:`~clap_unified.clap.run_clap`).
     **space_options
         Passed to :class:`~clap_unified.spaces.Landmark3DSpace` when no
         ``space`` is given (``distance_tolerance``, ``angle_weight``,
@@ -160,7 +164,7 @@ def localize3d(observations, landmarks, *, method: str = "clap", n_hypotheses: i
                   check_positive(max_rotation, "max_rotation"))
     # the options of each strategy this function sets (the others keep their defaults)
     own = {"clap": dict(bandwidth=bandwidth, centre=centre, max_clusters=max_clusters,
-                        min_support=min_support, prune=prune),
+                        min_support=min_support, prune=prune, select=select),
            "open3d": dict(n_hypotheses=open3d_iterations, seed=_open3d_seed(rng))}
     return localize(space, data, method, prior=prior, radius=radius, threshold=threshold,
                     rng=rng, hypotheses=hypotheses,
