@@ -382,7 +382,7 @@ def _row(cells) -> str:
 
 def claims_markdown(claims, details: bool = True) -> str:
     """The claims as Markdown: a table of verdicts, then each claim's protocol, deviations,
-    sensitivity and controls (the book's front page shows the same).
+    sensitivity and controls in a collapsed block (the book's front page shows the same).
 
     Examples
     --------
@@ -408,7 +408,9 @@ def claims_markdown(claims, details: bool = True) -> str:
                            c["measured"], data]))
     if details:
         for i, c in enumerate(claims, 1):
-            lines += ["", f"**{i}. {c['key']}: {c.get('summary', c['verdict'])}.** "
+            lines += ["", f"<details><summary>{i}. {c['key']}: {c['verdict']}: deviations, "
+                      "alternatives, controls</summary>", "",
+                      f"**{c.get('summary', c['verdict'])}.** "
                       + " ".join(f"Protocol: {p}." for p in c.get("protocol", []))]
             if c.get("deviations"):
                 lines += ["", "| the paper | here | why |", "|---|---|---|"]
@@ -418,6 +420,7 @@ def claims_markdown(claims, details: bool = True) -> str:
                 lines += ["", "| alternative | kind | verdict | measured |", "|---|---|---|---|"]
                 lines += [_row([r["change"], r["kind"], f"**{r['verdict']}**", r["measured"]])
                           for r in rows]
+            lines += ["", "</details>"]
     return "\n".join(lines) + "\n"
 
 
