@@ -439,3 +439,24 @@ def test_fewer_wrong_poses_by_giving_none_is_only_half_the_spurious_claim():
     outputs = _numbers_3d(0.0, 0.0, 0.78, 1.0, n=80, clap_none=0.22)
     assert _judge_3d_spurious(outputs)[0] == "partly reproduced"
     assert _judge_3d_spurious(_numbers_3d(0.9, 0.9, 0.0, 0.3, n=80))[0] == "reproduced"
+
+
+def test_every_run_experiment_states_its_protocol_deviations_and_variants(serial_run):
+    """What the claims read: a protocol line, {paper, here, why} deviations, variants of a known
+    kind whose verdicts the claims report, and at least one control per reproduced claim."""
+    out, res = serial_run
+    outputs = {n: json.loads((out / "experiments" / f"{n}.json").read_text())["output"]
+               for n in REDUCED}
+    for name, o in outputs.items():
+        assert o["protocol"], name
+        assert o["deviations"] and all(d["why"].startswith(WHY) for d in o["deviations"]), name
+        assert o["variants"], name
+        for key, v in o["variants"].items():
+            assert v["label"] and v["kind"] in ("sensitivity", "extension", "control"), key
+            assert isinstance(v["numbers"], dict), key
+    for c in res.claims:
+        if c["verdict"] in ("data unavailable",):
+            continue
+        assert c["sensitivity"], c["key"]
+        if c["verdict"] == "reproduced":
+            assert any(r["verdict"] != "reproduced" for r in c["controls"]), c["key"]
