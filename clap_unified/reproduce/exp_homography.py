@@ -90,7 +90,7 @@ DEVIATIONS = [
      "here": "as the paper; with a ground-truth inlier ratio w, 400 candidates hold about "
              "400 w^4 all-inlier samples (numbers: expected_all_inlier_samples); variants "
              "equal_budget_400 and equal_budget_1000",
-     "why": "the paper's budgets; a choice to show the equal budgets beside them"},
+     "why": "a choice: the paper's budgets as stated, with the equal budgets shown beside them"},
 ]
 
 
