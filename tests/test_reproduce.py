@@ -59,7 +59,7 @@ def test_reduced_quick_run_writes_claims_tables_and_figures(serial_run):
     assert "%" in tested["2d_outliers"]["measured"]
     assert tested["3d_outliers"]["verdict"] == "data unavailable"
     assert (out / "tables" / "localization2d_errors.csv").read_text().startswith(
-        "false_positive_rate,frame,method,e_t_m,e_r_deg")
+        "e_r_deg,e_t_m,false_positive_rate,frame,method")
     for name in ("localization2d_accuracy", "homogr_lie_hist_log", "homogr_lie_per_scene"):
         assert (out / "figures" / f"{name}.png").stat().st_size > 1000
         assert (out / "figures" / f"{name}.svg").stat().st_size > 1000
@@ -460,3 +460,13 @@ def test_every_run_experiment_states_its_protocol_deviations_and_variants(serial
         assert c["sensitivity"], c["key"]
         if c["verdict"] == "reproduced":
             assert any(r["verdict"] != "reproduced" for r in c["controls"]), c["key"]
+
+
+def test_a_reused_experiment_reads_as_a_fresh_one(serial_run, tmp_path):
+    """Claims, their alternatives' order and the tables are the same from the cache."""
+    out, fresh = serial_run
+    again = reproduce(out, quick=True, only=REDUCED, progress=False, log=lambda s: None)
+    assert sorted(again.reused) == sorted(REDUCED) and not again.ran
+    assert again.claims == fresh.claims
+    assert [r["key"] for c in again.claims for r in c["sensitivity"] + c["controls"]] == \
+        [r["key"] for c in fresh.claims for r in c["sensitivity"] + c["controls"]]

@@ -111,7 +111,8 @@ def _json_data(obj):
             return x.item()
         return x
 
-    return json.loads(json.dumps(clean(obj), allow_nan=False))
+    # keys sorted as the cache stores them: a fresh output and a cached one read alike
+    return json.loads(json.dumps(clean(obj), allow_nan=False, sort_keys=True))
 
 
 @functools.cache
