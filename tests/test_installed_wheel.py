@@ -119,6 +119,8 @@ def test_the_wheel_ships_the_package_data_and_nothing_of_the_repository(wheel):
                    "clap_unified/imaging/datasets/manifests/homography.json",
                    "clap_unified/imaging/datasets/manifests/vpg.json",
                    "clap_unified/imaging/datasets/manifests/stitching_sets.json",
+                   "clap_unified/imaging/datasets/manifests/adelaidermf.json",
+                   "clap_unified/imaging/datasets/manifests/adelaidermf_published.json",
                    "clap_unified/__main__.py"):
         assert needed in names
     assert not [n for n in names if n.startswith(("tests/", "data/", "book/", "bench/"))]
