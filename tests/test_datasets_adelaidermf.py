@@ -255,6 +255,11 @@ def test_published_results_name_their_source():
     assert all(r["kind"] == "fundamental" for r in published_results("fundamental"))
     with pytest.raises(ValueError, match="kind"):
         published_results("F")
+    # what could not be checked in a primary source is named, with the reason, and has no numbers
+    unverified = json.loads(manifest_file("adelaidermf_published").read_text())["unverified"]
+    assert unverified and all(set(u) == {"method", "paper", "reason"} for u in unverified)
+    assert {"CONSAC / CONSAC-S", "T-Linkage", "RPA", "J-Linkage", "PEARL", "Multi-X"} <= {
+        u["method"] for u in unverified}
     # a copy: editing it leaves the packaged numbers alone
     results[0]["mean"] = -1
     assert published_results()[0]["mean"] != -1
