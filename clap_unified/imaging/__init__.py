@@ -13,8 +13,10 @@
   reprojection error;
 * :mod:`.features`: SIFT and the ratio test; :mod:`.stitching`: warping and
   blending into one panorama;
-* :mod:`.datasets`: homogr / EVD, VPG (real layout) and a synthetic VPG-layout
-  generator.
+* :mod:`.segmentation_metrics`: the misclassification error of a multi-model
+  labelling (the AdelaideRMF measure);
+* :mod:`.datasets`: homogr / EVD, VPG (real layout), a synthetic VPG-layout
+  generator and AdelaideRMF (multi-model fitting).
 """
 
 from .estimate import (

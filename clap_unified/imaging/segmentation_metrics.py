@@ -110,10 +110,12 @@ def misclassification_error(predicted, truth) -> float:
 
     Notes
     -----
-    Some published evaluations permute the outlier class with the
-    structures (Progressive-X's notebooks match every true label, outliers
-    included, to any predicted one); that can only lower the error, so
-    numbers computed that way are at most this function's.
+    Published evaluations do not all match labels this way. Progressive-X's
+    notebooks, for one, permute every true label, the outlier class
+    included, over the label values ``0..K`` (letting outliers match a
+    structure, which can only lower the error, while a structure found
+    under an index above ``K`` never counts as right). Compare numbers
+    computed under one protocol only.
 
     Examples
     --------
