@@ -73,6 +73,8 @@ class MultiModelInput:
     image_b: np.ndarray | None = None
 
     def __post_init__(self):
+        for name in ("matches", "score"):
+            object.__setattr__(self, name, np.asarray(getattr(self, name), dtype=float))
         freeze_arrays(self)
         if self.matches.ndim != 2 or self.matches.shape[1] != 4:
             raise ValueError(f"matches: expected shape (N, 4), got {self.matches.shape}")
