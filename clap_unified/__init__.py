@@ -17,12 +17,22 @@ on one identical hypothesis set. All return a frozen
 
 from . import geometry, spaces
 from .fitting import compare, fit, fit_line
-from .registry import Strategy, get_strategy, register_strategy, strategy_names
-from .result import Cluster, Consensus, ConsensusResult
+from .registry import (
+                       Segmenter,
+                       Strategy,
+                       get_segmenter,
+                       get_strategy,
+                       register_segmenter,
+                       register_strategy,
+                       segmenter_names,
+                       strategy_names,
+)
+from .result import Cluster, Consensus, ConsensusResult, Segmentation, SegmentationResult
+from .segmenting import segment
 from .spaces import HypothesisSet, HypothesisSpace, LineSpace, generate_hypotheses
 
 # The strategies register themselves on import (subpackages: hough, ransac, clap).
-from . import hough, ransac, clap  # noqa: E402,I001  isort: skip
+from . import hough, ransac, clap, preference  # noqa: E402,I001  isort: skip
 from . import external  # noqa
 from .registry import load_plugins  # noqa: E402
 
@@ -45,8 +55,16 @@ __all__ = [
     "generate_hypotheses",
     "geometry",
     "hough",
+    "preference",
     "ransac",
+    "register_segmenter",
     "register_strategy",
+    "segment",
+    "segmenter_names",
+    "Segmentation",
+    "SegmentationResult",
+    "Segmenter",
+    "get_segmenter",
     "spaces",
     "strategy_names",
     "Strategy",

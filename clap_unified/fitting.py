@@ -21,6 +21,7 @@ import functools
 import inspect
 import math
 import time
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -126,16 +127,137 @@ def fit(space, data, method: str = "clap", *, n_hypotheses: int = 1000,
         raise ValueError(f"space: expected a HypothesisSpace, got {type(space).__name__}")
     strategy = get_strategy(method, space)
     _check_options(strategy, options)
-    data = space.check_data(data)
+    problem = check_problem(space, data, threshold, prior, radius,
+                            default_threshold=_strategy_threshold(strategy, options))
     n_hypotheses = check_int(n_hypotheses, "n_hypotheses", minimum=1)
+    if max_hypotheses is not None:
+        return _fit_adaptive(problem, method, strategy, n_hypotheses, max_hypotheses, rng,
+                             hypotheses, refine, sampling, options, t0)
+    return _fit_once(problem, method, strategy, n_hypotheses, rng, hypotheses, refine,
+                     sampling, options, t0)
+
+
+def _strategy_threshold(strategy, options):
+    """The strategy's default threshold as ``check_problem`` takes it, or ``None``."""
+    if strategy.default_threshold is None:
+        return None
+    return lambda space, data: strategy.default_threshold(space, data, options)
+
+
+def _fit_once(problem, method, strategy, n_hypotheses, rng, hypotheses, refine, sampling,
+              options, t0) -> ConsensusResult:
+    """One fit of a checked problem: draw, gate, run, refine, finish, build the result."""
+    space, n = problem.space, len(problem.data)
+    wanted = (strategy.uses_hypotheses and hypotheses is None
+              and not (strategy.draws_samples and problem.prior is None))
+    hypotheses, g, gen = draw_hypotheses(problem, n_hypotheses, rng, hypotheses=hypotheses,
+                                         sampling=sampling if strategy.uses_hypotheses else None,
+                                         wanted=wanted)
+    if not strategy.uses_hypotheses:
+        hypotheses = None
+    n_hyp = 0 if hypotheses is None else len(hypotheses)
+    diag = {}
+    candidates, keep = hypotheses, None
+    if not strategy.gates_prior:
+        candidates, keep, n_near = gate_prior(problem, hypotheses)
+        if n_near is not None:
+            diag["near_prior"] = n_near
+
+    def failed(reason):
+        return ConsensusResult.failure(method, reason, n, n_hyp, space, problem.threshold,
+                                       **{**diag, "hypotheses": n_hyp, "generation_seconds": gen,
+                                          "seconds": time.perf_counter() - t0})
+
+    if candidates is not None and len(candidates) == 0:
+        if problem.prior is not None and n_hyp:
+            return failed(f"no hypothesis within radius {describe_radius(problem.radius)} of "
+                          f"the prior ({n_hyp} generated)")
+        return failed("no hypotheses: every minimal sample was degenerate")
+    consensus = strategy.run(space, problem.data, candidates, threshold=problem.threshold,
+                             prior=problem.prior, radius=problem.radius, rng=g,
+                             n_hypotheses=n_hypotheses, **options)
+    diag.update(consensus.diagnostics)
+    if consensus.model is None:
+        return failed(consensus.reason)
+    clusters, support = _to_hypothesis_indices(consensus, keep, n_hyp, diag)
+    model, inliers = finish_model(problem, consensus.model, refine=refine)
+    score, reason = consensus.score, "ok"
+    if strategy.finish is not None:
+        score, reason = strategy.finish(space, problem.data, model, inliers, problem.threshold,
+                                        consensus)
+    if reason != "ok":
+        return failed(reason)
+    diag.update(hypotheses=n_hyp, generation_seconds=gen, seconds=time.perf_counter() - t0)
+    return ConsensusResult(method, True, "ok", model, inliers, support, float(score),
+                           clusters, diag, space, problem.threshold)
+
+
+def _fit_adaptive(problem, method, strategy, n_hypotheses, max_hypotheses, rng, hypotheses,
+                  refine, sampling, options, t0) -> ConsensusResult:
+    """``fit(max_hypotheses=...)``: a second, larger budget when the first one was short."""
+    max_hypotheses = check_int(max_hypotheses, "max_hypotheses", minimum=n_hypotheses)
+    if hypotheses is not None:
+        raise ValueError("max_hypotheses: not with hypotheses= (fit draws no more)")
+    if not strategy.uses_hypotheses or strategy.draws_samples:
+        raise ValueError(f"max_hypotheses: only for a strategy that uses hypotheses fit "
+                         f"generates (not with hypotheses=, not for {method!r})")
+    g = as_generator(rng)
+    first = _fit_once(problem, method, strategy, n_hypotheses, g, None, refine, sampling,
+                      options, t0)
+    w = first.n_inliers / len(problem.data) if first.success else 0.0
+    need = (max_hypotheses if w == 0 else
+            min(max_hypotheses, math.ceil(ALL_INLIER_SAMPLES / w ** problem.space.min_samples)))
+    best = first
+    if need > n_hypotheses:
+        second = _fit_once(problem, method, strategy, need, g, None, refine, sampling, options,
+                           time.perf_counter())
+        if second.success and (not first.success or second.n_inliers > first.n_inliers):
+            best = second
+    return best.replace(diagnostics={"adaptive_hypotheses": max(need, n_hypotheses),
+                                     "seconds": time.perf_counter() - t0})
+
+
+@dataclass(frozen=True)
+class Problem:
+    """A checked estimation problem: what :func:`fit` and :func:`segment` share.
+
+    Built by :func:`check_problem`; every field is valid for ``space``.
+
+    Attributes
+    ----------
+    space : HypothesisSpace
+    data : ndarray
+        The data as ``space.check_data`` returns it.
+    threshold : float
+        The inlier threshold, in data units.
+    prior : ndarray or None
+        A previous estimate, one model of ``space``.
+    radius : float, ndarray or None
+        The gate around ``prior``.
+    """
+
+    space: HypothesisSpace
+    data: np.ndarray
+    threshold: float
+    prior: np.ndarray | None = None
+    radius: object = None
+
+
+def check_problem(space, data, threshold=None, prior=None, radius=None, *,
+                  default_threshold=None) -> Problem:
+    """Check the arguments every entry point takes, once; errors name the argument.
+
+    ``default_threshold(space, data) -> float`` gives the threshold when none is
+    passed (default: ``space.default_threshold(data)``).
+    """
+    if not isinstance(space, HypothesisSpace):
+        raise ValueError(f"space: expected a HypothesisSpace, got {type(space).__name__}")
+    data = space.check_data(data)
     if threshold is None:
-        threshold = (strategy.default_threshold(space, data, options)
-                     if strategy.default_threshold is not None
+        threshold = (default_threshold(space, data) if default_threshold is not None
                      else space.default_threshold(data))
     else:
         threshold = check_positive(threshold, "threshold")
-    if hypotheses is not None and not isinstance(hypotheses, HypothesisSet):
-        raise ValueError(f"hypotheses: expected a HypothesisSet, got {type(hypotheses).__name__}")
     if prior is not None:
         prior = space.manifold.validate(prior, "prior")
         if prior.shape != tuple(space.model_shape):
@@ -149,88 +271,65 @@ def fit(space, data, method: str = "clap", *, n_hypotheses: int = 1000,
             radius = check_array(radius, "radius", shape=(None,))
             if len(radius) == 0 or np.any(radius <= 0):
                 raise ValueError(f"radius: expected positive bounds, got {radius.tolist()}")
-    if max_hypotheses is not None:
-        max_hypotheses = check_int(max_hypotheses, "max_hypotheses", minimum=n_hypotheses)
-        if hypotheses is not None:
-            raise ValueError("max_hypotheses: not with hypotheses= (fit draws no more)")
-        if not strategy.uses_hypotheses or strategy.draws_samples:
-            raise ValueError(f"max_hypotheses: only for a strategy that uses hypotheses fit "
-                             f"generates (not with hypotheses=, not for {method!r})")
-        g = as_generator(rng)
-        again = dict(threshold=threshold, prior=prior, radius=radius, refine=refine,
-                     sampling=sampling, **options)
-        first = fit(space, data, method, n_hypotheses=n_hypotheses, rng=g, **again)
-        w = first.n_inliers / len(data) if first.success else 0.0
-        need = (max_hypotheses if w == 0 else
-                min(max_hypotheses, math.ceil(ALL_INLIER_SAMPLES / w ** space.min_samples)))
-        best = first
-        if need > n_hypotheses:
-            second = fit(space, data, method, n_hypotheses=need, rng=g, **again)
-            if second.success and (not first.success or second.n_inliers > first.n_inliers):
-                best = second
-        return best.replace(diagnostics={"adaptive_hypotheses": max(need, n_hypotheses),
-                                         "seconds": time.perf_counter() - t0})
-    g = rng  # a Generator is made only when something draws (it costs ~30 us unseeded)
-    n = len(data)
-    diag = {}
-    gen = 0.0
-    if not strategy.uses_hypotheses:
-        hypotheses = None
-    elif hypotheses is None and not (strategy.draws_samples and prior is None):
-        t1 = time.perf_counter()
-        g = as_generator(rng)
-        hypotheses = space.hypotheses(data, n_hypotheses, rng=g, prior=prior, radius=radius,
-                                      **(sampling or {}))
-        gen = time.perf_counter() - t1
-    elif sampling:
-        raise ValueError("sampling: only used when fit generates the hypotheses")
-    n_hyp = 0 if hypotheses is None else len(hypotheses)
-    candidates, keep = hypotheses, None
-    if prior is not None and hypotheses is not None and not strategy.gates_prior:
-        near = space.near_prior(prior, hypotheses.models, radius)
-        diag["near_prior"] = int(np.count_nonzero(near))
-        if diag["near_prior"] < n_hyp:
-            keep = np.flatnonzero(near)
-            candidates = hypotheses.subset(keep)
+    return Problem(space, data, threshold, prior, radius)
 
-    def failed(reason, **more):
-        return ConsensusResult.failure(method, reason, n, n_hyp, space, threshold,
-                                       **{**diag, **more, "hypotheses": n_hyp,
-                                          "generation_seconds": gen,
-                                          "seconds": time.perf_counter() - t0})
 
-    if candidates is not None and len(candidates) == 0:
-        if prior is not None and n_hyp:
-            return failed(f"no hypothesis within radius {describe_radius(radius)} of the prior "
-                          f"({n_hyp} generated)")
-        return failed("no hypotheses: every minimal sample was degenerate")
-    consensus = strategy.run(space, data, candidates, threshold=threshold, prior=prior,
-                             radius=radius, rng=g, n_hypotheses=n_hypotheses, **options)
-    diag.update(consensus.diagnostics)
-    if consensus.model is None:
-        return failed(consensus.reason)
+def draw_hypotheses(problem: Problem, n_hypotheses: int, rng, *, hypotheses=None,
+                    sampling=None, wanted: bool = True):
+    """The hypotheses of a fit: ``(hypotheses, rng, seconds)``.
+
+    Given ``hypotheses`` are checked and used; otherwise, when ``wanted``,
+    ``space.hypotheses`` draws ``n_hypotheses`` from ``rng`` (made a
+    Generator, returned so that a strategy continues the same stream).
+    """
+    if hypotheses is not None and not isinstance(hypotheses, HypothesisSet):
+        raise ValueError(f"hypotheses: expected a HypothesisSet, got {type(hypotheses).__name__}")
+    if hypotheses is not None or not wanted:
+        if sampling:
+            raise ValueError("sampling: only used when fit generates the hypotheses")
+        return hypotheses, rng, 0.0
+    t0 = time.perf_counter()
+    g = as_generator(rng)
+    hypotheses = problem.space.hypotheses(problem.data, n_hypotheses, rng=g, prior=problem.prior,
+                                          radius=problem.radius, **(sampling or {}))
+    return hypotheses, g, time.perf_counter() - t0
+
+
+def gate_prior(problem: Problem, hypotheses):
+    """The hypotheses within the prior's radius: ``(candidates, keep, n_near)``.
+
+    ``keep`` maps the candidates' indices to the hypotheses' (``None`` when
+    every hypothesis is kept or there is no prior); ``n_near`` is ``None``
+    without a prior.
+    """
+    if problem.prior is None or hypotheses is None:
+        return hypotheses, None, None
+    near = problem.space.near_prior(problem.prior, hypotheses.models, problem.radius)
+    n_near = int(np.count_nonzero(near))
+    if n_near == len(hypotheses):
+        return hypotheses, None, n_near
+    keep = np.flatnonzero(near)
+    return hypotheses.subset(keep), keep, n_near
+
+
+def _to_hypothesis_indices(consensus, keep, n_hyp, diag):
+    """Clusters and support of a consensus over candidates, as indices into the hypotheses."""
     clusters, support = list(consensus.clusters), consensus.support
-    if keep is not None:  # indices into the candidates -> into the hypotheses
-        clusters = [dataclasses.replace(c, members=keep[c.members]) for c in clusters]
-        support = np.zeros(n_hyp, bool)
-        support[keep[np.flatnonzero(consensus.support)]] = True
-        if "best_hypothesis" in diag:  # RANSAC's winner, an index like the members
-            diag["best_hypothesis"] = int(keep[diag["best_hypothesis"]])
-    centre = consensus.model
+    if keep is None:
+        return clusters, support
+    clusters = [dataclasses.replace(c, members=keep[c.members]) for c in clusters]
+    support = np.zeros(n_hyp, bool)
+    support[keep[np.flatnonzero(consensus.support)]] = True
+    if "best_hypothesis" in diag:  # RANSAC's winner, an index like the members
+        diag["best_hypothesis"] = int(keep[diag["best_hypothesis"]])
+    return clusters, support
+
+
+def finish_model(problem: Problem, centre, *, refine: bool = True):
+    """``(model, inliers)``: ``centre`` refined on its data inliers, or as it is."""
     if refine:
-        model, inliers = space.refine(centre, data, threshold)
-    else:
-        model, inliers = centre, space.inliers(centre, data, threshold)
-    score, reason = consensus.score, "ok"
-    if strategy.finish is not None:
-        score, reason = strategy.finish(space, data, model, inliers, threshold, consensus)
-    if reason != "ok":
-        return failed(reason)
-    diag["hypotheses"] = n_hyp
-    diag["generation_seconds"] = gen
-    diag["seconds"] = time.perf_counter() - t0
-    return ConsensusResult(method, True, "ok", model, inliers, support, float(score),
-                           clusters, diag, space, threshold)
+        return problem.space.refine(centre, problem.data, problem.threshold)
+    return centre, problem.space.inliers(centre, problem.data, problem.threshold)
 
 
 def describe_radius(radius) -> str:

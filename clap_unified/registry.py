@@ -32,8 +32,9 @@ import threading
 from collections.abc import Callable
 from dataclasses import dataclass
 
-__all__ = ["Strategy", "get_strategy", "load_plugins", "register_strategy", "strategy_names",
-           "unregister_strategy"]
+__all__ = ["Segmenter", "Strategy", "get_segmenter", "get_strategy", "load_plugins",
+           "register_segmenter", "register_strategy", "segmenter_names", "strategy_names",
+           "unregister_segmenter", "unregister_strategy"]
 
 #: Entry-point group of strategies in other packages, loaded when clap_unified is imported:
 #: in their pyproject.toml, ``[project.entry-points."clap_unified.strategies"]``
@@ -106,47 +107,124 @@ class Strategy:
         return self.applies_to is None or space.name in self.applies_to
 
 
-_REGISTRY: dict[str, Strategy] = {}
-_LOCK = threading.Lock()  # registration from several threads stays consistent
+@dataclass(frozen=True)
+class Segmenter:
+    """A multi-model strategy as :func:`~clap_unified.segment` sees it.
+
+    Attributes
+    ----------
+    name : str
+        The one name it is registered, selected and reported under (the
+        multi-model counterpart of a strategy keeps the strategy's name:
+        ``"clap"``, ``"ransac"``, ``"randomized_hough"``).
+    run : callable
+        ``run(space, data, hypotheses, *, threshold, rng, n_hypotheses,
+        **options) -> Segmentation``; arguments as for :class:`Strategy`.
+    uses_hypotheses : bool
+        :func:`~clap_unified.segment` draws the hypotheses first (shared
+        by every segmenter in a comparison).
+    applies_to : tuple of str, optional
+        Names of the spaces it works in; ``None`` for any.
+    summary : str
+    baseline : bool
+        Another library's estimator wrapped as a segmenter.
+    """
+
+    name: str
+    run: Callable
+    uses_hypotheses: bool = True
+    applies_to: tuple | None = None
+    summary: str = ""
+    baseline: bool = False
+
+    def applies(self, space) -> bool:
+        """Whether this segmenter works in ``space``."""
+        return self.applies_to is None or space.name in self.applies_to
+
+
+class _Registry:
+    """Names to entries of one kind, safe to change from several threads."""
+
+    def __init__(self, kind: type, noun: str):
+        self.kind, self.noun = kind, noun
+        self.entries: dict = {}
+        self.lock = threading.Lock()
+
+    def register(self, entry, replace: bool):
+        if not isinstance(entry, self.kind):
+            raise TypeError(f"{self.noun}: expected a {self.kind.__name__}, "
+                            f"got {type(entry).__name__}")
+        if not entry.name or not entry.name.replace("_", "").isalnum():
+            raise ValueError(f"{self.noun}: name must be a word of letters, digits and "
+                             f"underscores, got {entry.name!r}")
+        with self.lock:
+            if entry.name in self.entries and not replace:
+                raise ValueError(f"{self.noun}: {entry.name!r} is already registered")
+            self.entries[entry.name] = entry
+        return entry
+
+    def unregister(self, name: str) -> None:
+        with self.lock:
+            self.entries.pop(name, None)
+
+    def names(self, space=None) -> tuple[str, ...]:
+        with self.lock:
+            items = list(self.entries.items())
+        return tuple(n for n, e in items if space is None or e.applies(space))
+
+    def get(self, name: str, space=None):
+        if not isinstance(name, str) or name not in self.entries:
+            raise ValueError(f"method: expected one of {sorted(self.entries)}, got {name!r}")
+        entry = self.entries[name]
+        if space is not None and not entry.applies(space):
+            raise ValueError(f"method: {name!r} works in the {', '.join(entry.applies_to)} "
+                             f"space(s), not in the {space.name} space; choose one of "
+                             f"{list(self.names(space))}")
+        return entry
+
+
+_STRATEGIES = _Registry(Strategy, "strategy")
+_SEGMENTERS = _Registry(Segmenter, "segmenter")
 
 
 def register_strategy(strategy: Strategy, *, replace: bool = False) -> Strategy:
     """Register ``strategy`` under ``strategy.name`` (a name already taken is an error)."""
-    if not isinstance(strategy, Strategy):
-        raise TypeError(f"strategy: expected a Strategy, got {type(strategy).__name__}")
-    if not strategy.name or not strategy.name.replace("_", "").isalnum():
-        raise ValueError(f"strategy: name must be a word of letters, digits and underscores, "
-                         f"got {strategy.name!r}")
-    with _LOCK:
-        if strategy.name in _REGISTRY and not replace:
-            raise ValueError(f"strategy: {strategy.name!r} is already registered")
-        _REGISTRY[strategy.name] = strategy
-    return strategy
+    return _STRATEGIES.register(strategy, replace)
 
 
 def unregister_strategy(name: str) -> None:
     """Remove a registered strategy (for tests and plug-ins)."""
-    with _LOCK:
-        _REGISTRY.pop(name, None)
+    _STRATEGIES.unregister(name)
 
 
 def strategy_names(space=None) -> tuple[str, ...]:
     """Registered strategy names, in registration order; with ``space``, those that apply."""
-    with _LOCK:
-        items = list(_REGISTRY.items())
-    return tuple(n for n, s in items if space is None or s.applies(space))
+    return _STRATEGIES.names(space)
 
 
 def get_strategy(name: str, space=None) -> Strategy:
     """The strategy registered as ``name``; ``ValueError`` naming ``method`` otherwise."""
-    if not isinstance(name, str) or name not in _REGISTRY:
-        raise ValueError(f"method: expected one of {sorted(_REGISTRY)}, got {name!r}")
-    strategy = _REGISTRY[name]
-    if space is not None and not strategy.applies(space):
-        raise ValueError(f"method: {name!r} works in the {', '.join(strategy.applies_to)} "
-                         f"space(s), not in the {space.name} space; choose one of "
-                         f"{list(strategy_names(space))}")
-    return strategy
+    return _STRATEGIES.get(name, space)
+
+
+def register_segmenter(segmenter: Segmenter, *, replace: bool = False) -> Segmenter:
+    """Register a multi-model strategy under ``segmenter.name``."""
+    return _SEGMENTERS.register(segmenter, replace)
+
+
+def unregister_segmenter(name: str) -> None:
+    """Remove a registered segmenter (for tests and plug-ins)."""
+    _SEGMENTERS.unregister(name)
+
+
+def segmenter_names(space=None) -> tuple[str, ...]:
+    """Registered segmenter names, in registration order; with ``space``, those that apply."""
+    return _SEGMENTERS.names(space)
+
+
+def get_segmenter(name: str, space=None) -> Segmenter:
+    """The segmenter registered as ``name``; ``ValueError`` naming ``method`` otherwise."""
+    return _SEGMENTERS.get(name, space)
 
 
 def load_plugins() -> tuple[str, ...]:

@@ -1,4 +1,10 @@
-"""The result type shared by every consensus strategy, frozen once built."""
+"""The result types shared by every strategy, frozen once built.
+
+* one model: a strategy returns a :class:`Consensus`, :func:`~clap_unified.fit`
+  builds the :class:`ConsensusResult`;
+* several models: a segmenter returns a :class:`Segmentation`,
+  :func:`~clap_unified.segment` builds the :class:`SegmentationResult`.
+"""
 
 from __future__ import annotations
 
@@ -9,7 +15,8 @@ import numpy as np
 
 from .datatypes import ReadOnlyDict
 
-__all__ = ["Cluster", "Consensus", "ConsensusResult", "runner_up_ratio"]
+__all__ = ["Cluster", "Consensus", "ConsensusResult", "Segmentation", "SegmentationResult",
+           "runner_up_ratio"]
 
 
 @dataclass(frozen=True)
@@ -230,3 +237,139 @@ class ConsensusResult:
         return (f"ConsensusResult(method={self.method!r}, success=True, "
                 f"inliers={self.n_inliers}/{len(self.inliers)}, score={self.score:.4g}, "
                 f"clusters={len(self.clusters)})")
+
+
+@dataclass(frozen=True)
+class Segmentation:
+    """What a multi-model strategy hands back to :func:`~clap_unified.segment`.
+
+    Attributes
+    ----------
+    models : ndarray of shape (K,) + model_shape
+        The structures found, in the strategy's order of preference (best
+        first); ``K`` may be 0.
+    scores : ndarray of shape (K,)
+        The strategy's own score of each (cluster support, votes, inliers).
+    labels : ndarray of int, shape (N,), optional
+        The strategy's own assignment of the data (``-1``: outlier); ``None``
+        lets :func:`~clap_unified.segment` assign each datum to its nearest
+        model within the threshold.
+    reason : str
+        ``"ok"``, or why there is no model.
+    selection : str
+        How the number of models was chosen, in words.
+    diagnostics : dict
+    """
+
+    models: np.ndarray
+    scores: np.ndarray
+    labels: np.ndarray | None = None
+    reason: str = "ok"
+    selection: str = ""
+    diagnostics: dict = field(default_factory=dict)
+
+
+@dataclass(frozen=True)
+class SegmentationResult:
+    """What :func:`~clap_unified.segment` returns: several models and the data they explain.
+
+    Frozen like :class:`ConsensusResult`. Finding no structure is an answer,
+    not an exception: ``models`` is empty, every label is ``-1``, ``success``
+    is False and ``reason`` says why.
+
+    Attributes
+    ----------
+    method : str
+        The registered segmenter name.
+    success : bool
+        At least one model was found.
+    reason : str
+    models : ndarray of shape (K,) + model_shape
+    labels : ndarray of int, shape (N,)
+        The model each datum belongs to, ``-1`` for an outlier.
+    scores : ndarray of shape (K,)
+        The strategy's score of each model.
+    selection : str
+        How the number of models was chosen.
+    diagnostics : mapping
+        Counts and timings (``"seconds"``, ``"generation_seconds"``).
+    space : HypothesisSpace
+    threshold : float or None
+    """
+
+    method: str
+    success: bool
+    reason: str
+    models: np.ndarray
+    labels: np.ndarray
+    scores: np.ndarray
+    selection: str = ""
+    diagnostics: ReadOnlyDict = field(default_factory=ReadOnlyDict)
+    space: object = field(default=None, repr=False)
+    threshold: float | None = None
+
+    def __post_init__(self):
+        for name in ("models", "labels", "scores"):
+            object.__setattr__(self, name, _locked(getattr(self, name)))
+        object.__setattr__(self, "diagnostics", ReadOnlyDict(self.diagnostics))
+
+    def __reduce__(self):  # unpickling runs __post_init__: the copy is frozen too
+        return (SegmentationResult,
+                tuple(getattr(self, f.name) for f in dataclasses.fields(self)))
+
+    def __bool__(self) -> bool:
+        return bool(self.success)
+
+    @property
+    def n_models(self) -> int:
+        return int(len(self.models))
+
+    @property
+    def support(self) -> np.ndarray:
+        """Data per model, shape (K,)."""
+        return np.bincount(self.labels[self.labels >= 0], minlength=self.n_models)[:self.n_models]
+
+    def inliers(self, k: int) -> np.ndarray:
+        """Boolean mask of the data labelled ``k``."""
+        if not 0 <= int(k) < self.n_models:
+            raise ValueError(f"k: expected a model index in [0, {self.n_models}), got {k}")
+        return self.labels == int(k)
+
+    def replace(self, **changes) -> SegmentationResult:
+        """A copy with some fields changed (``diagnostics`` entries are merged in)."""
+        if "diagnostics" in changes:
+            changes["diagnostics"] = {**self.diagnostics, **changes["diagnostics"]}
+        return dataclasses.replace(self, **changes)
+
+    def to_dict(self) -> dict:
+        """The common JSON form, as ``clap-unified segment`` prints it.
+
+        Keys: ``method``, ``success``, ``reason``, ``models`` (each described
+        by the space, with its ``support`` and ``score``), ``labels`` (one
+        integer per datum, ``-1`` for an outlier), ``selection``, ``data``,
+        ``threshold`` and ``seconds``.
+        """
+        def describe(model):
+            return (self.space.model_to_dict(model) if self.space is not None
+                    else np.asarray(model).tolist())
+
+        support = self.support
+        return {
+            "method": self.method,
+            "success": bool(self.success),
+            "reason": self.reason,
+            "models": [{"model": describe(m), "support": int(s), "score": float(c)}
+                       for m, s, c in zip(self.models, support, self.scores, strict=True)],
+            "labels": [int(v) for v in self.labels],
+            "selection": self.selection,
+            "data": int(len(self.labels)),
+            "threshold": None if self.threshold is None else float(self.threshold),
+            "seconds": round(float(self.diagnostics.get("seconds", 0.0)), 6),
+        }
+
+    def __repr__(self) -> str:
+        if not self.success:
+            return (f"SegmentationResult(method={self.method!r}, success=False, "
+                    f"reason={self.reason!r})")
+        return (f"SegmentationResult(method={self.method!r}, models={self.n_models}, "
+                f"support={self.support.tolist()}, outliers={int(np.sum(self.labels < 0))})")

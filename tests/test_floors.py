@@ -35,16 +35,16 @@ FLOORS = [
     # Maps the spaces localize against (the RoboCup field).
     ["maps"],
     # Inliers and refitting on a space's protocol; spaces.base builds on it.
-    ["refine"],
+    ["refine", "partition"],
     # Hypothesis spaces: model families, minimal solvers, residuals.
     ["spaces"],
     # The result types every strategy returns.
     ["result"],
     # The strategy registry and ``fit``, below the strategies that register.
-    ["registry", "fitting"],
+    ["registry", "fitting", "segmenting"],
     # Strategies (``external``: other libraries' estimators as strategies; the
     # side-by-side ``compare`` while it exists).
-    ["hough", "ransac", "clap", "external", "compare"],
+    ["hough", "ransac", "clap", "preference", "external", "compare"],
     # The package facade re-exports strategies, spaces and ``fit``.
     [FACADE],
     # Applications.

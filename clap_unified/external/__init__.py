@@ -8,7 +8,9 @@ when it runs:
   ``"usac_ransac_fixed"``, OpenCV's robust homography estimators;
 * :mod:`.poselib`: ``"poselib"``, PoseLib's homography LO-RANSAC;
 * :mod:`.colmap`: ``"colmap"``, COLMAP's homography LO-RANSAC (pycolmap);
-* :mod:`.open3d`: ``"open3d"``, Open3D's correspondence RANSAC for 3D poses.
+* :mod:`.open3d`: ``"open3d"``, Open3D's correspondence RANSAC for 3D poses;
+* :mod:`.sequential`: the homography peers in a remove-inliers loop, as
+  segmenters of :func:`~clap_unified.segment`.
 """
 
 from . import (
@@ -16,6 +18,7 @@ from . import (
     open3d,  # noqa: F401  (registers the Open3D strategy)
     opencv,  # noqa: F401  (registers the OpenCV strategies)
     poselib,  # noqa: F401  (registers the PoseLib strategy)
+    sequential,  # noqa: F401,E402  (the peers in a remove-inliers loop, as segmenters)
 )
 
-__all__ = ["colmap", "open3d", "opencv", "poselib"]
+__all__ = ["colmap", "open3d", "opencv", "poselib", "sequential"]

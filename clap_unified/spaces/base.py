@@ -192,14 +192,17 @@ class HypothesisSpace(ABC):
         (:func:`~clap_unified.spaces.generate_hypotheses`, every subset when
         there are few). A space with ``prior_hypotheses`` uses ``prior`` and
         ``radius``; others ignore them. ``sampling`` holds space-specific
-        sampling options (e.g. the match quality of homographies).
+        sampling options (e.g. the match quality of homographies);
+        ``neighbours=k`` draws local samples in every space (a seed and others
+        among its ``k`` nearest data).
         """
         from .sampling import generate_hypotheses
 
-        if sampling:
-            raise ValueError(f"sampling: the {self.name} space takes no sampling options, "
-                             f"got {sorted(sampling)}")
-        return generate_hypotheses(self, data, n, rng=rng)
+        unknown = sorted(set(sampling) - {"neighbours"})
+        if unknown:
+            raise ValueError(f"sampling: the {self.name} space takes only 'neighbours' (local "
+                             f"sampling), got {unknown}")
+        return generate_hypotheses(self, data, n, rng=rng, **sampling)
 
     def near_prior(self, prior, models, radius) -> np.ndarray:
         """Boolean mask of the ``models`` within ``radius`` of ``prior`` (the local gate).

@@ -604,7 +604,8 @@ class HomographySpace(HypothesisSpace):
         return 0.05
 
     def hypotheses(self, data, n, *, rng=None, prior=None, radius=None, quality=None,
-                   pools: int = 8, min_pool: int = 8) -> HypothesisSet:
+                   pools: int = 8, min_pool: int = 8,
+                   neighbours: int | None = None) -> HypothesisSet:
         """Candidate homographies from 4-match samples, uniform or progressive.
 
         Parameters
@@ -625,6 +626,10 @@ class HomographySpace(HypothesisSpace):
             ``min_pool``); no 4-subset is drawn twice (a small pool may then
             give fewer candidates).
         pools, min_pool : int
+        neighbours : int, optional
+            Local sampling instead (not with ``quality``): each sample is a
+            match and three others among its ``neighbours`` nearest, in both
+            images (:func:`~clap_unified.spaces.sampling.sample_local_subsets`).
 
         Returns
         -------
@@ -642,6 +647,11 @@ class HomographySpace(HypothesisSpace):
         from .sampling import generate_hypotheses, sample_subsets
 
         n = check_int(n, "n", minimum=1)
+        if neighbours is not None:
+            if quality is not None:
+                raise ValueError("neighbours: local sampling does not take a quality")
+            return generate_hypotheses(self, data, n, rng=rng, batch_size=n + n // 4 + 8,
+                                       neighbours=neighbours)
         if quality is None:
             # one batch with a margin for degenerate samples, not a second full batch
             return generate_hypotheses(self, data, n, rng=rng, batch_size=n + n // 4 + 8)

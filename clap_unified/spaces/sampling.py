@@ -10,8 +10,8 @@ import numpy as np
 from .._validation import as_generator, check_choice, check_int
 from .base import HypothesisSet, HypothesisSpace
 
-__all__ = ["generate_hypotheses", "enumerate_hypotheses", "sample_subsets",
-           "unsolved_samples"]
+__all__ = ["generate_hypotheses", "enumerate_hypotheses", "sample_local_subsets",
+           "sample_subsets", "unsolved_samples"]
 
 
 def sample_subsets(n_data: int, size: int, n_samples: int, *, rng=None) -> np.ndarray:
@@ -58,6 +58,66 @@ def sample_subsets(n_data: int, size: int, n_samples: int, *, rng=None) -> np.nd
     return out.T.copy()
 
 
+def sample_local_subsets(coords, size: int, n_samples: int, neighbours: int, *,
+                         rng=None) -> np.ndarray:
+    """Random subsets drawn near each other: a seed, then others among its nearest data.
+
+    NAPSAC-style local sampling (Myatt et al., BMVC 2002): structures are
+    spatially coherent, so a minimal sample drawn around one datum lies on
+    one structure far more often than a uniform one. Each row is a uniformly
+    random seed datum and ``size - 1`` distinct others drawn uniformly from
+    its ``neighbours`` nearest data (by ``coords``, on a k-d tree).
+
+    Parameters
+    ----------
+    coords : ndarray of shape (N, d)
+        Where each datum is (e.g. a match's coordinates in both images).
+    size : int
+        Indices per subset.
+    n_samples : int
+    neighbours : int
+        Neighbourhood size, the seed excluded (at least ``size - 1``; capped
+        at ``N - 1``).
+    rng : None, int or numpy.random.Generator
+
+    Returns
+    -------
+    ndarray of int, shape (n_samples, size)
+        The seed first in each row.
+
+    Examples
+    --------
+    >>> pts = np.c_[np.arange(100.0), np.zeros(100)]
+    >>> s = sample_local_subsets(pts, 3, 4, neighbours=5, rng=0)
+    >>> s.shape, bool(np.all(np.ptp(s, axis=1) <= 10))
+    ((4, 3), True)
+    """
+    from scipy.spatial import cKDTree
+
+    coords = np.asarray(coords, dtype=float)
+    if coords.ndim != 2 or not np.all(np.isfinite(coords)):
+        raise ValueError(f"coords: expected finite coordinates of shape (N, d), "
+                         f"got shape {coords.shape}")
+    n_data = len(coords)
+    size = check_int(size, "size", minimum=1)
+    n_samples = check_int(n_samples, "n_samples", minimum=0)
+    if size > n_data:
+        raise ValueError(f"size: cannot draw {size} distinct indices from {n_data}")
+    neighbours = min(check_int(neighbours, "neighbours", minimum=size - 1), n_data - 1)
+    g = as_generator(rng)
+    # neighbours + 1 nearest (the seed itself among them), the seed put first in every row
+    _, near = cKDTree(coords).query(coords, k=neighbours + 1)
+    near = np.asarray(near).reshape(n_data, neighbours + 1)
+    own = near == np.arange(n_data)[:, None]
+    own[~own.any(axis=1), -1] = True  # duplicates: the seed may not be listed; drop the last
+    near = np.concatenate([np.arange(n_data)[:, None],
+                           near[~own].reshape(n_data, neighbours)], axis=1)
+    seeds = g.integers(0, n_data, size=n_samples)
+    pick = sample_subsets(neighbours, size - 1, n_samples, rng=g) + 1 if size > 1 else \
+        np.empty((n_samples, 0), dtype=np.intp)
+    return np.c_[seeds, near[seeds[:, None], pick]].astype(np.intp)
+
+
 def unsolved_samples(k: int, owner) -> int:
     """How many of ``k`` samples gave no model, from ``solve_minimal``'s ``owner`` indices.
 
@@ -93,7 +153,8 @@ def enumerate_hypotheses(space: HypothesisSpace, data) -> HypothesisSet:
 
 def generate_hypotheses(space: HypothesisSpace, data, n: int = 1000, *, rng=None,
                         exhaustive="auto", max_draws: int | None = None,
-                        batch_size: int | None = None) -> HypothesisSet:
+                        batch_size: int | None = None, neighbours: int | None = None,
+                        coords=None) -> HypothesisSet:
     """Candidate models from random minimal samples of ``data``.
 
     Draws minimal samples in batches, solves them all at once with
@@ -117,6 +178,11 @@ def generate_hypotheses(space: HypothesisSpace, data, n: int = 1000, *, rng=None
         cannot loop forever.
     batch_size : int, optional
         Samples solved per batch (default ``n``).
+    neighbours : int, optional
+        Local sampling (:func:`sample_local_subsets`): each sample is a seed
+        and others among its ``neighbours`` nearest data by ``coords``
+        (default the data's rows flattened). Never exhaustive.
+    coords : ndarray of shape (N, d), optional
 
     Returns
     -------
@@ -139,8 +205,14 @@ def generate_hypotheses(space: HypothesisSpace, data, n: int = 1000, *, rng=None
         check_choice(exhaustive, "exhaustive", {"auto", True, False})
     m = space.min_samples
     n_subsets = comb(len(data), m)
-    if exhaustive is True or (exhaustive == "auto" and n_subsets <= n):
+    if neighbours is None and (exhaustive is True or (exhaustive == "auto" and n_subsets <= n)):
         return enumerate_hypotheses(space, data)
+    if neighbours is not None:
+        coords = (np.asarray(data, dtype=float).reshape(len(data), -1) if coords is None
+                  else coords)
+        if len(coords) != len(data):
+            raise ValueError(f"coords: expected {len(data)} rows, one per datum, "
+                             f"got {len(coords)}")
     max_draws = 10 * n if max_draws is None else check_int(max_draws, "max_draws", minimum=1)
     batch = n if batch_size is None else check_int(batch_size, "batch_size", minimum=1)
     g = as_generator(rng)
@@ -148,7 +220,8 @@ def generate_hypotheses(space: HypothesisSpace, data, n: int = 1000, *, rng=None
     found = drawn = bad = 0
     while found < n and drawn < max_draws:
         k = min(batch, max_draws - drawn)
-        idx = sample_subsets(len(data), m, k, rng=g)
+        idx = (sample_subsets(len(data), m, k, rng=g) if neighbours is None else
+               sample_local_subsets(coords, m, k, neighbours, rng=g))
         mod, owner = space.solve_minimal(data, idx)
         drawn += k
         bad += unsolved_samples(k, owner)

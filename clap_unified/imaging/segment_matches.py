@@ -1,0 +1,153 @@
+"""Several planes or motions in one image pair: :func:`~clap_unified.segment` on matches.
+
+:func:`segment_matches` builds the space of ``kind`` and calls
+:func:`~clap_unified.segment` with the defaults of :data:`SEGMENT_DEFAULTS`,
+the one home of the multi-model defaults the command line, the benchmark and
+the book share. :func:`evaluate_adelaidermf` runs methods on the AdelaideRMF
+sequences and scores them by the misclassification error (the labels reach
+only the score).
+"""
+
+from __future__ import annotations
+
+import time
+
+import numpy as np
+
+from .._validation import check_choice
+from ..segmenting import segment
+from ..spaces.homography import HomographySpace
+
+__all__ = ["SEGMENT_DEFAULTS", "SPACES", "evaluate_adelaidermf", "segment_matches"]
+
+#: Space of each kind of match segmentation.
+SPACES = {"homography": HomographySpace}
+
+#: Defaults of :func:`segment_matches`, per kind: the inlier threshold (pixels,
+#: the space's residual), the hypotheses drawn and how (local samples: a match
+#: and others among its 20 nearest, for every segmenter that uses the shared
+#: hypotheses; sequential RANSAC draws its own the same way). Chosen on
+#: AdelaideRMF by the benchmark ``bench/bench_adelaidermf.py``.
+SEGMENT_DEFAULTS = {
+    "homography": {"threshold": 5.0, "n_hypotheses": 1000, "neighbours": 20},
+}
+
+
+def segment_matches(matches, kind: str = "homography", method: str = "clap", *,
+                    threshold: float | None = None, rng=None, n_hypotheses: int | None = None,
+                    neighbours: int | None = None, **options):
+    """The planes (or motions) in matches ``(x1, y1, x2, y2)``, and which match is on which.
+
+    Parameters
+    ----------
+    matches : array_like of shape (N, 4)
+    kind : {"homography"}
+        The model of one structure.
+    method : str
+        A segmenter (:func:`~clap_unified.registry.segmenter_names`).
+    threshold, n_hypotheses, neighbours : optional
+        Default :data:`SEGMENT_DEFAULTS`; ``neighbours=0`` draws uniform
+        samples.
+    rng : None, int or numpy.random.Generator
+    **options
+        Passed to :func:`~clap_unified.segment` (``min_support``, the
+        segmenter's own options).
+
+    Returns
+    -------
+    SegmentationResult
+
+    Examples
+    --------
+    >>> rng = np.random.default_rng(0)
+    >>> src = rng.uniform(0, 640, (200, 2))
+    >>> dst = np.where(np.arange(200)[:, None] < 100, src + 20.0, 1.1 * src)
+    >>> res = segment_matches(np.c_[src, dst], rng=0)
+    >>> res.n_models, sorted(res.support.tolist())
+    (2, [100, 100])
+    """
+    kind = check_choice(kind, "kind", set(SPACES))
+    defaults = SEGMENT_DEFAULTS[kind]
+    threshold = defaults["threshold"] if threshold is None else threshold
+    n_hypotheses = defaults["n_hypotheses"] if n_hypotheses is None else n_hypotheses
+    neighbours = defaults["neighbours"] if neighbours is None else neighbours
+    local = {"neighbours": int(neighbours)} if neighbours else None
+    space = SPACES[kind]()
+    from ..registry import get_segmenter
+
+    segmenter = get_segmenter(method, space)
+    if segmenter.uses_hypotheses:
+        options["sampling"] = local
+    elif method == "ransac" and local:
+        options.setdefault("neighbours", local["neighbours"])
+    return segment(space, matches, method, threshold=threshold, rng=rng,
+                   n_hypotheses=n_hypotheses, **options)
+
+
+def evaluate_adelaidermf(kind: str = "homography", methods=("clap",), *, thresholds=None,
+                         seeds=(0,), names=None, options=None, progress: bool = False):
+    """Each method on each AdelaideRMF sequence, scored by the misclassification error.
+
+    Parameters
+    ----------
+    kind : {"homography"}
+    methods : sequence of str
+    thresholds : sequence of float, optional
+        Default: the kind's default threshold only.
+    seeds : sequence of int
+    names : sequence of str, optional
+        Sequences (default all present).
+    options : dict, optional
+        Per-method options of :func:`segment_matches`.
+    progress : bool
+        A progress bar (tqdm).
+
+    Returns
+    -------
+    list of dict
+        One row per sequence, method, threshold and seed: ``error`` (a
+        fraction), ``models`` found, ``true_models``, ``seconds``.
+    """
+    from .datasets.adelaidermf import adelaidermf_names, load_adelaidermf
+    from .segmentation_metrics import misclassification_error
+
+    kind = check_choice(kind, "kind", set(SPACES))
+    thresholds = (SEGMENT_DEFAULTS[kind]["threshold"],) if thresholds is None else thresholds
+    names = adelaidermf_names(kind) if names is None else list(names)
+    options = options or {}
+    jobs = [(n, m, t, s) for n in names for m in methods for t in thresholds for s in seeds]
+    if progress:
+        from tqdm import tqdm
+
+        jobs = tqdm(jobs, desc=f"AdelaideRMF {kind}", leave=False)
+    rows, pairs = [], {}
+    for name, method, t, seed in jobs:
+        if name not in pairs:
+            pairs = {name: load_adelaidermf(name, kind, images=False)}
+        pair = pairs[name]
+        t0 = time.perf_counter()
+        res = segment_matches(pair.input.matches, kind, method, threshold=t, rng=seed,
+                              **options.get(method, {}))
+        seconds = time.perf_counter() - t0
+        rows.append({"sequence": name, "method": method, "threshold": float(t),
+                     "seed": int(seed), "error": misclassification_error(res.labels,
+                                                                         pair.truth.labels),
+                     "models": res.n_models, "true_models": pair.truth.n_structures,
+                     "seconds": seconds})
+    return rows
+
+
+def summarise(rows) -> dict:
+    """Per method and threshold: mean and median over sequences of the seed-mean error (%)."""
+    out = {}
+    keys = sorted({(r["method"], r["threshold"]) for r in rows})
+    for key in keys:
+        mine = [r for r in rows if (r["method"], r["threshold"]) == key]
+        seqs = sorted({r["sequence"] for r in mine})
+        per = np.array([np.mean([r["error"] for r in mine if r["sequence"] == s]) for s in seqs])
+        out[key] = {"mean": 100 * float(per.mean()), "median": 100 * float(np.median(per)),
+                    "models": float(np.mean([r["models"] for r in mine])),
+                    "true_models": float(np.mean([r["true_models"] for r in mine])),
+                    "seconds": float(np.median([r["seconds"] for r in mine])),
+                    "per_sequence": dict(zip(seqs, (100 * per).tolist(), strict=True))}
+    return out

@@ -1,0 +1,236 @@
+"""Several models sharing one data set: assign, select and refit, on a space's protocol.
+
+The multi-model counterpart of :mod:`clap_unified.refine`, shared by every
+multi-model strategy and by :func:`~clap_unified.segment`:
+
+* :func:`assign_labels`: each datum to its nearest model within the
+  threshold (``-1``: an outlier);
+* :func:`select_models`: candidate models taken in order while each explains
+  enough data that the ones already taken do not (the number of models);
+* :func:`select_by_label_cost`: the subset of candidates that minimises the
+  truncated squared residuals of the data plus a cost per model (the number
+  of models, by model selection);
+* :func:`refit_partition`: assign, refit each model on its own data, drop the
+  models left with too little, until the labels stop changing.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["assign_labels", "refine_hypotheses", "refit_partition", "select_by_label_cost",
+           "select_models"]
+
+
+def assign_labels(space, models, data, threshold: float) -> np.ndarray:
+    """Label of each datum: the model with the smallest residual, if below ``threshold``.
+
+    Parameters
+    ----------
+    space : HypothesisSpace
+    models : ndarray of shape (K,) + model_shape
+    data : ndarray
+        Checked data of ``space``.
+    threshold : float
+
+    Returns
+    -------
+    ndarray of int, shape (N,)
+        Index into ``models``, ``-1`` for a datum no model explains. Ties go
+        to the first model.
+
+    Examples
+    --------
+    >>> from clap_unified.spaces import LineSpace
+    >>> lines = np.array([[np.pi / 2, 0.0], [np.pi / 2, 5.0]])   # (theta, rho): y = 0, y = 5
+    >>> pts = np.array([[0.0, 0.1], [1.0, 4.9], [2.0, 2.5]])
+    >>> assign_labels(LineSpace(), lines, pts, 0.5).tolist()
+    [0, 1, -1]
+    """
+    n = len(data)
+    models = np.asarray(models)
+    if len(models) == 0:
+        return np.full(n, -1, dtype=np.intp)
+    r = space.residuals(models, data)
+    best = np.argmin(r, axis=0)
+    labels = best.astype(np.intp)
+    labels[r[best, np.arange(n)] >= threshold] = -1
+    return labels
+
+
+def select_models(space, candidates, data, threshold: float, min_support: int,
+                  max_models: int | None = None) -> np.ndarray:
+    """Indices of the candidates kept: in order, each must explain ``min_support`` new data.
+
+    A candidate is kept when at least ``min_support`` of its inliers are not
+    inliers of a candidate kept before it: the greedy cover that decides how
+    many models there are (a bridging model whose data the others already
+    explain adds nothing and is dropped).
+
+    Parameters
+    ----------
+    space : HypothesisSpace
+    candidates : ndarray of shape (C,) + model_shape
+        Best first.
+    data : ndarray
+    threshold : float
+    min_support : int
+        New data a model must explain to be kept.
+    max_models : int, optional
+
+    Returns
+    -------
+    ndarray of int
+        Indices into ``candidates``, in order.
+    """
+    if len(candidates) == 0:
+        return np.zeros(0, dtype=np.intp)
+    inl = space.residuals(np.asarray(candidates), data) < threshold
+    covered = np.zeros(len(data), bool)
+    kept = []
+    for i in range(len(inl)):
+        if np.count_nonzero(inl[i] & ~covered) >= min_support:
+            kept.append(i)
+            covered |= inl[i]
+            if max_models is not None and len(kept) >= max_models:
+                break
+    return np.asarray(kept, dtype=np.intp)
+
+
+def select_by_label_cost(space, candidates, data, threshold: float, label_cost: float,
+                         max_models: int | None = None) -> np.ndarray:
+    """Indices of the candidates whose set minimises residual cost plus a cost per model.
+
+    The energy of a set ``S`` of models is ``sum_i min(min_{k in S} r_ik^2,
+    t^2) + label_cost * |S|``: each datum pays its truncated squared residual
+    to the nearest model (an outlier pays ``t^2``), each model pays
+    ``label_cost`` (the label cost of PEARL, Isack and Boykov, IJCV 2012).
+    Greedy forward selection adds the candidate that lowers the energy most
+    while it lowers it by more than ``label_cost``; backward elimination then
+    removes any model whose removal lowers the energy. Two models that split
+    two planes beat one that bridges them when the residuals they save pay
+    for the second label; a model whose data another already explains does
+    not pay for its own.
+
+    Parameters
+    ----------
+    space : HypothesisSpace
+    candidates : ndarray of shape (C,) + model_shape
+    data : ndarray
+    threshold : float
+        ``t``: residuals beyond it cost ``t^2`` (outliers).
+    label_cost : float
+        The cost of one more model, in squared data units (``m * t^2`` asks a
+        model to explain about ``m`` data well).
+    max_models : int, optional
+
+    Returns
+    -------
+    ndarray of int
+        Indices into ``candidates``, in the order they were added.
+
+    Examples
+    --------
+    >>> from clap_unified.spaces import LineSpace
+    >>> x = np.linspace(-5, 5, 20)
+    >>> pts = np.r_[np.c_[x, 0 * x], np.c_[x, 0 * x + 3]]      # y = 0 and y = 3
+    >>> cands = np.array([[np.pi / 2, 1.5], [np.pi / 2, 0.0], [np.pi / 2, 3.0]])
+    >>> select_by_label_cost(LineSpace(), cands, pts, 0.1, 5 * 0.1 ** 2).tolist()
+    [1, 2]
+    """
+    if len(candidates) == 0:
+        return np.zeros(0, dtype=np.intp)
+    t2 = float(threshold) ** 2
+    r = space.residuals(np.asarray(candidates), data)
+    cost = np.minimum(r * r, t2)
+    n_max = len(cost) if max_models is None else int(max_models)
+    current = np.full(cost.shape[1], t2)
+    chosen: list[int] = []
+    while len(chosen) < n_max:
+        gain = np.maximum(current[None] - cost, 0.0).sum(axis=1)
+        gain[chosen] = -np.inf
+        k = int(np.argmax(gain))
+        if not gain[k] > label_cost:
+            break
+        chosen.append(k)
+        current = np.minimum(current, cost[k])
+    while len(chosen) > 1:  # backward: drop a model whose data the others explain
+        total = np.minimum(cost[chosen].min(axis=0), t2).sum()
+        for k in chosen:
+            rest = [j for j in chosen if j != k]
+            if np.minimum(cost[rest].min(axis=0), t2).sum() - total < label_cost:
+                chosen = rest
+                break
+        else:
+            break
+    return np.asarray(chosen, dtype=np.intp)
+
+
+def refine_hypotheses(space, models, data, threshold: float, *, rounds: int = 1) -> np.ndarray:
+    """Each hypothesis refitted on its own inliers, ``rounds`` times (a degenerate refit keeps it).
+
+    Hypotheses from minimal samples of one structure scatter with the noise
+    of their few data; refitted on everything they explain, they gather
+    where the structure is (and several converge to the same model).
+
+    Returns
+    -------
+    ndarray of shape (H,) + model_shape
+    """
+    models = np.array(models, dtype=float, copy=True)
+    for _ in range(rounds):
+        inl = space.residuals(models, data) < threshold
+        for i in np.flatnonzero(inl.sum(axis=1) >= 2 * space.min_samples):
+            new = space.refit(data[inl[i]], initial=models[i])
+            if new is not None and np.all(np.isfinite(new)):
+                models[i] = new
+    return models
+
+
+def refit_partition(space, models, data, threshold: float, min_support: int, *,
+                    rounds: int = 5):
+    """Assign and refit every model on its own data until the labels are stable.
+
+    Each round assigns every datum to its nearest model within the
+    threshold (:func:`assign_labels`), drops the models left with fewer than
+    ``min_support`` data (the smallest first, then assigns again), and refits
+    each model on its data (``space.refit``; a degenerate refit keeps the
+    model). Stops when the labels no longer change, or after ``rounds``.
+
+    Returns
+    -------
+    models : ndarray of shape (K',) + model_shape
+    labels : ndarray of int, shape (N,)
+    kept : ndarray of int
+        Indices into the given ``models`` of the models returned.
+    """
+    models = np.array(models, dtype=float, copy=True)
+    kept = np.arange(len(models))
+    labels = assign_labels(space, models, data, threshold)
+    for _ in range(rounds):
+        models, labels, kept = _drop_weak(space, models, labels, kept, data, threshold,
+                                          min_support)
+        for k in range(len(models)):
+            own = labels == k
+            if np.count_nonzero(own) >= space.min_samples:
+                new = space.refit(data[own], initial=models[k])
+                if new is not None and np.all(np.isfinite(new)):
+                    models[k] = new
+        new_labels = assign_labels(space, models, data, threshold)
+        if np.array_equal(new_labels, labels):
+            break
+        labels = new_labels
+    return _drop_weak(space, models, labels, kept, data, threshold, min_support)
+
+
+def _drop_weak(space, models, labels, kept, data, threshold, min_support):
+    """Drop the models with fewer than ``min_support`` data, the weakest first."""
+    while len(models):
+        support = np.bincount(labels[labels >= 0], minlength=len(models))
+        weakest = int(np.argmin(support))
+        if support[weakest] >= min_support:
+            break
+        models = np.delete(models, weakest, axis=0)
+        kept = np.delete(kept, weakest)
+        labels = assign_labels(space, models, data, threshold)
+    return models, labels, kept

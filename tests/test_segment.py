@@ -1,0 +1,174 @@
+"""``segment``: several models, the labels of the data, and the parts every segmenter shares."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+from clap_unified import LineSpace, segment, segmenter_names
+from clap_unified.partition import (
+    assign_labels,
+    refit_partition,
+    select_by_label_cost,
+    select_models,
+)
+from clap_unified.spaces.homography import HomographySpace
+
+METHODS = ("clap", "ransac", "t_linkage", "randomized_hough")
+
+
+def two_lines(seed=0, n1=80, n2=60, clutter=60):
+    """Two lines and uniform clutter; the true labels (-1 clutter) for scoring only."""
+    rng = np.random.default_rng(seed)
+    x = rng.uniform(-5, 5, n1 + n2)
+    y = np.where(np.arange(n1 + n2) < n1, 0.5 * x + 1, -x)
+    pts = np.c_[x, y] + rng.normal(0, 0.01, (n1 + n2, 2))
+    pts = np.r_[pts, rng.uniform(-5, 5, (clutter, 2))]
+    truth = np.r_[np.zeros(n1, int), np.ones(n2, int), -np.ones(clutter, int)]
+    return pts, truth
+
+
+def agreement(labels, truth):
+    """Share of data whose label matches the truth under the best matching of labels."""
+    from scipy.optimize import linear_sum_assignment
+
+    a, b = labels + 1, truth + 1
+    table = np.zeros((a.max() + 1, b.max() + 1))
+    np.add.at(table, (a, b), 1)
+    cost = -table
+    cost[0, 1:] = cost[1:, 0] = 1e9  # outliers only match outliers
+    r, c = linear_sum_assignment(cost)
+    return sum(table[i, j] for i, j in zip(r, c, strict=True) if cost[i, j] < 1e9) / len(a)
+
+
+def test_every_segmenter_is_registered():
+    assert set(METHODS) <= set(segmenter_names(LineSpace()))
+
+
+@pytest.mark.parametrize("method", METHODS)
+def test_two_lines_found_and_labelled(method):
+    pts, truth = two_lines()
+    opts = {"cell_size": 0.05} if method == "randomized_hough" else {}
+    res = segment(LineSpace.for_data(pts), pts, method, threshold=0.05, rng=1, **opts)
+    assert res.success and res.n_models == 2, res
+    assert agreement(res.labels, truth) > 0.95
+    assert res.labels.shape == (len(pts),) and res.labels.min() >= -1
+
+
+@pytest.mark.parametrize("method", METHODS)
+def test_same_seed_same_answer(method):
+    pts, _ = two_lines(3)
+    a = segment(LineSpace.for_data(pts), pts, method, threshold=0.05, rng=7)
+    b = segment(LineSpace.for_data(pts), pts, method, threshold=0.05, rng=7)
+    np.testing.assert_array_equal(a.labels, b.labels)
+    np.testing.assert_array_equal(a.models, b.models)
+
+
+@pytest.mark.parametrize("method", METHODS)
+def test_pure_noise_gives_no_model(method):
+    pts = np.random.default_rng(2).uniform(-5, 5, (150, 2))
+    res = segment(LineSpace.for_data(pts), pts, method, threshold=0.01, rng=0)
+    assert not res.success and res.n_models == 0
+    assert np.all(res.labels == -1) and res.reason
+    assert json.loads(json.dumps(res.to_dict()))["models"] == []
+
+
+def test_to_dict_is_the_common_json_form():
+    pts, _ = two_lines()
+    res = segment(LineSpace.for_data(pts), pts, "clap", threshold=0.05, rng=0)
+    d = json.loads(json.dumps(res.to_dict()))
+    assert set(d) == {"method", "success", "reason", "models", "labels", "selection", "data",
+                      "threshold", "seconds"}
+    assert len(d["labels"]) == len(pts) and len(d["models"]) == res.n_models
+    assert sorted(m["support"] for m in d["models"]) == sorted(res.support.tolist())
+    assert {"normal", "offset"} <= set(d["models"][0]["model"])
+
+
+def test_result_is_frozen():
+    pts, _ = two_lines()
+    res = segment(LineSpace.for_data(pts), pts, "clap", threshold=0.05, rng=0)
+    with pytest.raises(ValueError):
+        res.labels[0] = 5
+    with pytest.raises(ValueError, match="k: expected a model index"):
+        res.inliers(res.n_models)
+
+
+@pytest.mark.parametrize("bad, match", [
+    (dict(data=np.full((20, 2), np.nan)), "points"),
+    (dict(data=np.zeros((20, 3))), "points"),
+    (dict(method="nope"), "method"),
+    (dict(threshold=-1.0), "threshold"),
+    (dict(min_support=1), "min_support"),
+    (dict(n_hypotheses=0), "n_hypotheses"),
+    (dict(bogus=3), "bogus"),
+    (dict(space="line"), "space"),
+])
+def test_bad_input_names_the_argument(bad, match):
+    pts, _ = two_lines()
+    args = dict(space=LineSpace(), data=pts, method="clap", threshold=0.05)
+    args.update(bad)
+    with pytest.raises(ValueError, match=match):
+        segment(args.pop("space"), args.pop("data"), args.pop("method"), **args)
+
+
+def test_two_planes_of_matches():
+    rng = np.random.default_rng(4)
+    h1 = np.array([[1.0, 0.02, 5], [0.01, 1.0, -3], [0, 0, 1]])
+    h2 = np.array([[0.9, -0.1, 40], [0.05, 1.1, 10], [1e-4, 0, 1]])
+    src = rng.uniform(0, 640, (160, 2))
+    dst = np.empty_like(src)
+    for h, part in ((h1, slice(0, 80)), (h2, slice(80, 160))):
+        q = np.c_[src[part], np.ones(80)] @ h.T
+        dst[part] = q[:, :2] / q[:, 2:]
+    data = np.c_[src, dst + rng.normal(0, 0.5, dst.shape)]
+    data = np.r_[data, rng.uniform(0, 640, (60, 4))]
+    truth = np.r_[np.zeros(80, int), np.ones(80, int), -np.ones(60, int)]
+    for method in ("clap", "ransac", "t_linkage"):
+        res = segment(HomographySpace(), data, method, threshold=3.0, rng=0)
+        assert res.n_models == 2, (method, res)
+        assert agreement(res.labels, truth) > 0.95, method
+
+
+def test_local_sampling_is_shared_and_seeded():
+    pts, _ = two_lines()
+    a = segment(LineSpace.for_data(pts), pts, "clap", threshold=0.05, rng=0,
+                sampling={"neighbours": 10})
+    assert a.n_models == 2
+    with pytest.raises(ValueError, match="sampling"):
+        segment(LineSpace(), pts, "clap", threshold=0.05, sampling={"quality": 1})
+
+
+def test_assign_labels_nearest_within_threshold():
+    lines = np.array([[np.pi / 2, 0.0], [np.pi / 2, 1.0]])
+    pts = np.array([[0.0, 0.3], [0.0, 0.7], [0.0, 5.0]])
+    assert assign_labels(LineSpace(), lines, pts, 0.5).tolist() == [0, 1, -1]
+    assert assign_labels(LineSpace(), lines[:0], pts, 0.5).tolist() == [-1, -1, -1]
+
+
+def test_select_models_drops_a_model_whose_data_is_explained():
+    x = np.linspace(-5, 5, 30)
+    pts = np.r_[np.c_[x, 0 * x], np.c_[x, 0 * x + 1]]
+    cands = np.array([[np.pi / 2, 0.0], [np.pi / 2, 0.01], [np.pi / 2, 1.0]])
+    assert select_models(LineSpace(), cands, pts, 0.1, 10).tolist() == [0, 2]
+
+
+def test_label_cost_prefers_two_models_to_a_bridge_and_one_to_two():
+    x = np.linspace(-5, 5, 30)
+    pts = np.r_[np.c_[x, 0 * x], np.c_[x, 0 * x + 0.1]]
+    bridge = np.array([[np.pi / 2, 0.05], [np.pi / 2, 0.0], [np.pi / 2, 0.1]])
+    # cheap labels: two exact lines beat the bridge that half-explains both
+    assert sorted(select_by_label_cost(LineSpace(), bridge, pts, 0.2, 1e-4).tolist()) == [1, 2]
+    # a label worth more than what the second line saves: one model
+    assert select_by_label_cost(LineSpace(), bridge, pts, 0.2, 1.0).tolist() == [0]
+
+
+def test_refit_partition_drops_weak_models_and_refits():
+    pts, _ = two_lines()
+    space = LineSpace()
+    rough = np.array([[np.pi / 2 + np.arctan(0.5) + 0.01, 0.9], [np.pi / 4 + 0.01, 0.0],
+                      [0.3, 3.0]])
+    models, labels, kept = refit_partition(space, rough, pts, 0.05, 20)
+    assert kept.tolist() == [0, 1] and len(models) == 2
+    assert np.bincount(labels[labels >= 0]).min() >= 20
