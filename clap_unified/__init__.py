@@ -19,7 +19,13 @@ from . import geometry, spaces
 from .fitting import compare, fit, fit_line
 from .registry import Strategy, get_strategy, register_strategy, strategy_names
 from .result import Cluster, Consensus, ConsensusResult
-from .spaces import HypothesisSet, HypothesisSpace, LineSpace, generate_hypotheses
+from .spaces import (
+    FundamentalSpace,
+    HypothesisSet,
+    HypothesisSpace,
+    LineSpace,
+    generate_hypotheses,
+)
 
 # The strategies register themselves on import (subpackages: hough, ransac, clap).
 from . import hough, ransac, clap  # noqa: E402,I001  isort: skip
@@ -34,6 +40,7 @@ __all__ = [
     "Cluster",
     "Consensus",
     "ConsensusResult",
+    "FundamentalSpace",
     "HypothesisSet",
     "HypothesisSpace",
     "LineSpace",
