@@ -192,15 +192,24 @@ class ProjectiveMatrices(Manifold):
         return 2.0 * np.arcsin(np.minimum(chord / 2.0, 1.0))
 
     def pairwise_distance(self, points_a, points_b=None) -> np.ndarray:
-        """All ``(N, M)`` distances from one matrix product of the unit vectors."""
+        """All ``(N, M)`` distances, ``arccos |u . v|``, from one product of the unit vectors.
+
+        The cosine is rounded to about ``1e-16``, so distances below about
+        ``1e-8`` come out as that resolution (:meth:`distance`, from the
+        chord, resolves them); within one set the matrix is symmetric with a
+        zero diagonal.
+        """
         U = self.unit_vectors(check_array(points_a, "points_a", shape=(None, 3, 3)))
         V = U if points_b is None else self.unit_vectors(
             check_array(points_b, "points_b", shape=(None, 3, 3)))
-        c = np.minimum(np.abs(U @ V.T), 1.0)
-        out = 2.0 * np.arcsin(np.sqrt(np.maximum(2.0 - 2.0 * c, 0.0)) / 2.0)
+        out = U @ V.T
+        np.abs(out, out=out)
+        np.minimum(out, 1.0, out=out)
+        np.arccos(out, out=out)
         if points_b is None:
-            out = np.triu(out, 1)
-            out = out + out.T
+            out += out.T
+            out *= 0.5
+            np.fill_diagonal(out, 0.0)
         return out
 
     def chordal_embedding(self, points) -> np.ndarray:
