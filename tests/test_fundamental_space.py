@@ -197,6 +197,21 @@ def test_own_strategies_recover_F_at_50_percent_outliers(scene, method, options)
     _check_recovered(res, scene)
 
 
+def test_clap_beyond_the_dense_limit_and_with_prune(scene):
+    """More hypotheses than CLAP keeps a matrix for (blocked distances), and ``prune``."""
+    m = scene[0]
+    space = FundamentalSpace.for_data(m)
+    assert space.capabilities.chordal_embedding
+    big = fit(space, m, "clap", threshold=1.0, rng=0, n_hypotheses=6000, density="knn",
+              select="consensus")
+    assert big.diagnostics["hypotheses"] > 4000
+    _check_recovered(big, scene)
+    pruned = fit(space, m, "clap", threshold=1.0, rng=0, n_hypotheses=3000, density="knn",
+                 select="consensus", prune=True, bandwidth=0.05)
+    assert pruned.diagnostics["dense_candidates"] < 3000
+    _check_recovered(pruned, scene)
+
+
 @pytest.mark.parametrize("method", PEERS)
 def test_peers_recover_F_at_50_percent_outliers(scene, method):
     m = scene[0]
