@@ -18,18 +18,24 @@ on one identical hypothesis set. All return a frozen
 from . import geometry, spaces
 from .fitting import compare, fit, fit_line
 from .registry import (
-                       Segmenter,
-                       Strategy,
-                       get_segmenter,
-                       get_strategy,
-                       register_segmenter,
-                       register_strategy,
-                       segmenter_names,
-                       strategy_names,
+    Segmenter,
+    Strategy,
+    get_segmenter,
+    get_strategy,
+    register_segmenter,
+    register_strategy,
+    segmenter_names,
+    strategy_names,
 )
 from .result import Cluster, Consensus, ConsensusResult, Segmentation, SegmentationResult
 from .segmenting import segment
-from .spaces import HypothesisSet, HypothesisSpace, LineSpace, generate_hypotheses
+from .spaces import (
+    FundamentalSpace,
+    HypothesisSet,
+    HypothesisSpace,
+    LineSpace,
+    generate_hypotheses,
+)
 
 # The strategies register themselves on import (subpackages: hough, ransac, clap).
 from . import hough, ransac, clap, preference  # noqa: E402,I001  isort: skip
@@ -44,6 +50,7 @@ __all__ = [
     "Cluster",
     "Consensus",
     "ConsensusResult",
+    "FundamentalSpace",
     "HypothesisSet",
     "HypothesisSpace",
     "LineSpace",

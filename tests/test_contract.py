@@ -55,6 +55,20 @@ def _homography():
     return HomographySpace.for_data(matches), matches, degenerate, 3.0, "matches"
 
 
+def _fundamental():
+    from clap_unified.spaces import FundamentalSpace
+
+    rng = np.random.default_rng(5)
+    X = np.c_[rng.uniform(-2, 2, (150, 2)), rng.uniform(4, 8, 150)]
+    x1 = 800 * X[:, :2] / X[:, 2:] + 320
+    Y = X + [1.0, 0.2, 0.1]  # the second camera translated
+    x2 = 800 * Y[:, :2] / Y[:, 2:] + 320 + rng.normal(0, 0.3, (150, 2))
+    x2[:30] = rng.uniform(0, 640, (30, 2))  # 20 % outliers
+    matches = np.c_[x1, x2]
+    degenerate = np.tile([[10.0, 20.0, 30.0, 40.0]], (20, 1))
+    return FundamentalSpace.for_data(matches), matches, degenerate, 1.0, "matches"
+
+
 def _pose2d():
     from clap_unified.geometry import SE2
     from clap_unified.localization import load_field, simulate_observations
@@ -103,6 +117,7 @@ def _observations():
 
 
 SPACES = {"line": _line, "line_transfer": _line_transfer, "homography": _homography,
+          "fundamental": _fundamental,
           "pose2d": _pose2d, "pose3d": _pose3d, "rigid3d": _rigid3d,
           "observations": _observations, "circle": _circle}
 #: Options a space needs that have no default there.

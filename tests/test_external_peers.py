@@ -128,7 +128,8 @@ def test_registered_as_baselines():
     for method in (*PEER_NAMES, "cv2_ransac", "magsac", "usac_accurate", "usac_ransac_fixed"):
         assert method in names
         s = get_strategy(method)
-        assert s.baseline and not s.uses_hypotheses and s.applies_to == ("homography",)
+        assert s.baseline and not s.uses_hypotheses
+        assert s.applies_to == ("homography", "fundamental")
     assert get_strategy("open3d").baseline
     for own in ("clap", "ransac", "randomized_hough"):
         assert not get_strategy(own).baseline

@@ -5,12 +5,15 @@ each is a baseline (``Strategy.baseline``), and its library is imported only
 when it runs:
 
 * :mod:`.opencv`: ``"cv2_ransac"``, ``"magsac"``, ``"usac_accurate"`` and
-  ``"usac_ransac_fixed"``, OpenCV's robust homography estimators;
-* :mod:`.poselib`: ``"poselib"``, PoseLib's homography LO-RANSAC;
-* :mod:`.colmap`: ``"colmap"``, COLMAP's homography LO-RANSAC (pycolmap);
+  ``"usac_ransac_fixed"``, OpenCV's robust homography and fundamental-matrix
+  estimators;
+* :mod:`.poselib`: ``"poselib"``, PoseLib's homography and fundamental-matrix
+  LO-RANSAC;
+* :mod:`.colmap`: ``"colmap"``, COLMAP's homography and fundamental-matrix
+  LO-RANSAC (pycolmap);
 * :mod:`.open3d`: ``"open3d"``, Open3D's correspondence RANSAC for 3D poses;
-* :mod:`.sequential`: the homography peers in a remove-inliers loop, as
-  segmenters of :func:`~clap_unified.segment`.
+* :mod:`.sequential`: the peers in a remove-inliers loop, as segmenters of
+  :func:`~clap_unified.segment`.
 """
 
 from . import (

@@ -1,13 +1,45 @@
-"""Shared by the wrappers of other libraries' homography estimators (PoseLib, COLMAP)."""
+"""Shared by the wrappers of other libraries' estimators (OpenCV, PoseLib, COLMAP).
+
+They estimate homographies and fundamental matrices; :data:`MODELS` names
+the model of each space and says how it is normalised (``H33 = 1``, or unit
+Frobenius norm with the largest entry positive).
+"""
 
 from __future__ import annotations
 
 import numpy as np
 
 from .._validation import as_generator, check_fraction, check_int
+from ..geometry.projective import normalise_projective
 from ..result import Consensus
 
-__all__ = ["degenerate_reason", "run_peer", "seed_of"]
+__all__ = ["MODELS", "degenerate_reason", "normalise_model", "run_peer", "seed_of"]
+
+#: Space name -> the model's name in reasons.
+MODELS = {"homography": "homography", "fundamental": "fundamental matrix"}
+
+
+def normalise_model(M, space_name: str = "homography"):
+    """A peer's model in the space's normalisation, or None when it has none.
+
+    Homographies: ``H / H33`` (None when ``H33`` is zero); fundamental
+    matrices: unit Frobenius norm, largest-magnitude entry positive. None for
+    a non-finite model.
+
+    Examples
+    --------
+    >>> normalise_model(np.diag([2.0, 2.0, 2.0])).tolist()
+    [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]
+    >>> normalise_model(np.diag([0.0, 0.0, -2.0]), "fundamental").tolist()[2]
+    [0.0, 0.0, 1.0]
+    """
+    M = np.asarray(M, dtype=float)
+    if M.shape != (3, 3) or not np.all(np.isfinite(M)):
+        return None
+    if space_name == "fundamental":
+        M = normalise_projective(M)
+        return M if np.all(np.isfinite(M)) else None
+    return None if abs(M[2, 2]) < 1e-12 else M / M[2, 2]
 
 
 def seed_of(rng) -> int:
@@ -31,11 +63,12 @@ def seed_of(rng) -> int:
 
 
 def degenerate_reason(data) -> str | None:
-    """Why the matches determine no homography, or None when they may.
+    """Why the matches determine no homography or fundamental matrix, or None.
 
     The points of either image all identical or all on one line leave a
-    homography undetermined: a peer may still return one that fits them
-    (PoseLib does, for collinear points), which is no answer.
+    homography (and a fundamental matrix) undetermined: a peer may still
+    return one that fits them (PoseLib does, for collinear points), which is
+    no answer.
 
     Parameters
     ----------
@@ -63,7 +96,8 @@ def degenerate_reason(data) -> str | None:
 
 
 def run_peer(label: str, key: str, call, data, *, threshold: float, rng, n_hypotheses: int,
-             confidence: float, min_iterations: int) -> Consensus:
+             confidence: float, min_iterations: int,
+             space_name: str = "homography") -> Consensus:
     """The body every peer strategy shares: checks, seed, degeneracy, the call, the result.
 
     Parameters
@@ -75,18 +109,20 @@ def run_peer(label: str, key: str, call, data, *, threshold: float, rng, n_hypot
         ``poselib_inliers``).
     call : callable
         ``call(src, dst, threshold, max_iterations, min_iterations,
-        confidence, seed) -> (H or None, mask, extra_diagnostics)``.
+        confidence, seed) -> (model or None, mask, extra_diagnostics)``.
     data : ndarray of shape (N, 4)
         Checked matches.
     threshold, rng, n_hypotheses, confidence, min_iterations
         As documented by the strategies (:func:`~clap_unified.external.poselib.run_poselib`).
+    space_name : {"homography", "fundamental"}
+        The model estimated (:data:`MODELS`).
 
     Returns
     -------
     Consensus
-        ``H33 = 1``, score: the size of the peer's inlier mask; a failure with
-        a reason for degenerate matches, no answer, a non-finite answer or an
-        empty mask.
+        The model normalised as its space's (:func:`normalise_model`), score:
+        the size of the peer's inlier mask; a failure with a reason for
+        degenerate matches, no answer, a non-finite answer or an empty mask.
 
     Examples
     --------
@@ -100,24 +136,24 @@ def run_peer(label: str, key: str, call, data, *, threshold: float, rng, n_hypot
     confidence = check_fraction(confidence, "confidence", inclusive=(False, False))
     min_iterations = check_int(min_iterations, "min_iterations", minimum=0)
     seed = seed_of(rng)
+    what = MODELS[space_name]
     why = degenerate_reason(data)
     if why is not None:
-        return Consensus.failed(f"no homography: {why}", seed=seed)
+        return Consensus.failed(f"no {what}: {why}", seed=seed)
     src = np.ascontiguousarray(data[:, :2], dtype=np.float64)
     dst = np.ascontiguousarray(data[:, 2:], dtype=np.float64)
-    H, mask, extra = call(src, dst, float(threshold), int(n_hypotheses),
+    M, mask, extra = call(src, dst, float(threshold), int(n_hypotheses),
                           min(min_iterations, int(n_hypotheses)), confidence, seed)
-    if H is None:
-        return Consensus.failed(f"{label} found no homography", seed=seed)
-    H = np.asarray(H, dtype=float)
+    if M is None:
+        return Consensus.failed(f"{label} found no {what}", seed=seed)
     mask = np.asarray(mask, dtype=bool).reshape(-1)
     if len(mask) != len(data):
         mask = np.zeros(len(data), bool)
     diagnostics = {f"{key}_mask": mask, f"{key}_inliers": int(mask.sum()), **extra,
                    "seed": seed}
-    if not np.all(np.isfinite(H)) or abs(H[2, 2]) < 1e-12:
-        return Consensus.failed(f"{label} found no homography (non-finite model)",
-                                **diagnostics)
+    model = normalise_model(M, space_name)
+    if model is None:
+        return Consensus.failed(f"{label} found no {what} (non-finite model)", **diagnostics)
     if not mask.any():
-        return Consensus.failed(f"{label} found no homography (no inliers)", **diagnostics)
-    return Consensus(H / H[2, 2], score=float(mask.sum()), diagnostics=diagnostics)
+        return Consensus.failed(f"{label} found no {what} (no inliers)", **diagnostics)
+    return Consensus(model, score=float(mask.sum()), diagnostics=diagnostics)

@@ -1,7 +1,12 @@
-"""COLMAP's robust homography estimator as the strategy ``"colmap"`` of :func:`~clap_unified.fit`.
+"""COLMAP's robust estimators as the strategy ``"colmap"`` of :func:`~clap_unified.fit`.
 
-``pycolmap.estimate_homography_matrix`` on the matches: COLMAP's LO-RANSAC
-(4-point DLT samples, local optimisation on the inliers). A baseline
+In the homography space ``pycolmap.estimate_homography_matrix`` on the
+matches: COLMAP's LO-RANSAC (4-point DLT samples, local optimisation on the
+inliers). In the fundamental space ``pycolmap.estimate_fundamental_matrix``:
+LO-RANSAC on 7-point samples with squared-Sampson-error inliers (``max_error``
+is the Sampson error in pixels, the fundamental space's residual) and
+COLMAP's Sampson refinement; the model is scaled to unit Frobenius norm
+(convention ``x2^T F x1 = 0``, checked on a known ``F``). A baseline
 (``Strategy.baseline``), not one of the library's own strategies; it reads
 the data only (``uses_hypotheses=False``). The arguments mean what they mean
 for every strategy:
@@ -67,11 +72,11 @@ def _import_pycolmap():
 def run_colmap(space, data, hypotheses, *, threshold: float, prior=None, radius=None,
                rng=None, n_hypotheses: int = 1000, confidence: float = 0.995,
                min_iterations: int = 0) -> Consensus:
-    """``pycolmap.estimate_homography_matrix`` on checked matches.
+    """``pycolmap.estimate_homography_matrix`` (or ``estimate_fundamental_matrix``).
 
     Parameters
     ----------
-    space : HomographySpace
+    space : HomographySpace or FundamentalSpace
     data : ndarray of shape (N, 4)
         Rows ``(x1, y1, x2, y2)``.
     hypotheses
@@ -93,10 +98,10 @@ def run_colmap(space, data, hypotheses, *, threshold: float, prior=None, radius=
     Returns
     -------
     Consensus
-        The model with ``H33 = 1`` and no clusters; score: the size of
-        COLMAP's inlier mask. ``None`` (COLMAP's failure) or a non-finite
-        answer, or degenerate matches, is a failure
-        with a reason.
+        The model with ``H33 = 1`` (fundamental matrices: unit Frobenius
+        norm) and no clusters; score: the size of COLMAP's inlier mask.
+        ``None`` (COLMAP's failure) or a non-finite answer, or degenerate
+        matches, is a failure with a reason.
 
     Raises
     ------
@@ -117,16 +122,22 @@ def run_colmap(space, data, hypotheses, *, threshold: float, prior=None, radius=
         opt = pycolmap.RANSACOptions(max_error=t, max_num_trials=max_iterations,
                                      min_num_trials=min_iter, confidence=conf,
                                      random_seed=seed, num_threads=1)
-        answer = pycolmap.estimate_homography_matrix(src, dst, opt)
+        if fundamental:
+            answer = pycolmap.estimate_fundamental_matrix(src, dst, opt)
+        else:
+            answer = pycolmap.estimate_homography_matrix(src, dst, opt)
         if answer is None:
             return None, [], {}
-        return answer["H"], answer.get("inlier_mask", []), {}
+        return answer["F" if fundamental else "H"], answer.get("inlier_mask", []), {}
 
+    fundamental = space.name == "fundamental"
     return run_peer("COLMAP", "colmap", call, data, threshold=threshold, rng=rng,
                     n_hypotheses=n_hypotheses, confidence=confidence,
-                    min_iterations=min_iterations)
+                    min_iterations=min_iterations, space_name=space.name)
 
 
 register_strategy(Strategy(
-    "colmap", run_colmap, uses_hypotheses=False, applies_to=("homography",), baseline=True,
-    summary="COLMAP's pycolmap.estimate_homography_matrix (LO-RANSAC)"))
+    "colmap", run_colmap, uses_hypotheses=False, applies_to=("homography", "fundamental"),
+    baseline=True,
+    summary="COLMAP's pycolmap.estimate_homography_matrix / estimate_fundamental_matrix "
+            "(LO-RANSAC)"))

@@ -1,6 +1,8 @@
-"""OpenCV's robust homography estimators as strategies of :func:`~clap_unified.fit`.
+"""OpenCV's robust homography and fundamental-matrix estimators as strategies.
 
-``cv2.findHomography`` on the matches, registered under four names:
+``cv2.findHomography`` on the matches in the homography space,
+``cv2.findFundamentalMat`` in the fundamental space, registered under four
+names that apply to both:
 
 * ``"cv2_ransac"``: ``cv2.RANSAC``, the classical baseline; OpenCV stops
   adaptively once ``confidence`` is reached, at most ``n_hypotheses``
@@ -14,6 +16,14 @@
   stop early on confidence: the closest OpenCV setting to the paper's fixed
   budget. On the test pairs its estimate is visibly less refined than
   ``cv2.RANSAC``'s.
+
+In the fundamental space ``threshold`` is ``findFundamentalMat``'s
+``ransacReprojThreshold`` (OpenCV's USAC scores the Sampson error, the
+space's residual; ``cv2.FM_RANSAC`` the larger of the two point-to-epipolar-line
+distances), the model is scaled to unit Frobenius norm (convention
+``x2^T F x1 = 0``), and OpenCV needs at least 8 matches (fewer, or matches
+whose points in one image are all collinear or identical, are a failure with
+a reason before OpenCV runs).
 
 They read the data only (``uses_hypotheses=False``) and are baselines
 (``Strategy.baseline``), not the library's own strategies. ``threshold`` is
@@ -45,19 +55,28 @@ import numpy as np
 from .._validation import check_fraction
 from ..registry import Strategy, register_strategy
 from ..result import Consensus
+from ._peers import MODELS, degenerate_reason, normalise_model
 
 __all__ = ["OPENCV", "run_opencv"]
 
 
-def _classical(flag_name):
-    """``findHomography(src, dst, flag, threshold, maxIters=, confidence=)``."""
-    def call(cv2, src, dst, threshold, max_iters, confidence):
+def _classical(flag_name, fm_flag_name=None):
+    """``findHomography(src, dst, flag, threshold, maxIters=, confidence=)``.
+
+    With ``fundamental=True``: ``findFundamentalMat(src, dst, flag, threshold,
+    confidence, maxIters)`` (``fm_flag_name`` when the flag has another name
+    there: ``cv2.FM_RANSAC``).
+    """
+    def call(cv2, src, dst, threshold, max_iters, confidence, fundamental=False):
+        if fundamental:
+            return cv2.findFundamentalMat(src, dst, getattr(cv2, fm_flag_name or flag_name),
+                                          threshold, confidence, max_iters)
         return cv2.findHomography(src, dst, getattr(cv2, flag_name), threshold,
                                   maxIters=max_iters, confidence=confidence)
     return call
 
 
-def _usac_fixed(cv2, src, dst, threshold, max_iters, confidence):
+def _usac_fixed(cv2, src, dst, threshold, max_iters, confidence, fundamental=False):
     """Plain RANSAC in USAC with exactly ``max_iters`` iterations (``confidence`` ignored)."""
     params = cv2.UsacParams()
     params.confidence = 1.0  # never stops early: exactly maxIterations
@@ -68,13 +87,16 @@ def _usac_fixed(cv2, src, dst, threshold, max_iters, confidence):
     params.loMethod = cv2.LOCAL_OPTIM_NULL
     params.isParallel = False
     params.final_polisher = cv2.LSQ_POLISHER
+    if fundamental:
+        return cv2.findFundamentalMat(src, dst, params)
     return cv2.findHomography(src, dst, params)
 
 
 #: Strategy name -> (the ``cv2.findHomography`` call, one-line summary).
 OPENCV = {
-    "cv2_ransac": (_classical("RANSAC"),
-                   "OpenCV's cv2.findHomography with cv2.RANSAC (adaptive stopping)"),
+    "cv2_ransac": (_classical("RANSAC", "FM_RANSAC"),
+                   "OpenCV's cv2.findHomography with cv2.RANSAC (adaptive stopping; "
+                   "cv2.findFundamentalMat with cv2.FM_RANSAC)"),
     "magsac": (_classical("USAC_MAGSAC"),
                "OpenCV's MAGSAC++ (cv2.USAC_MAGSAC)"),
     "usac_accurate": (_classical("USAC_ACCURATE"),
@@ -91,7 +113,7 @@ def run_opencv(name, space, data, hypotheses, *, threshold: float, prior=None, r
     Parameters
     ----------
     name : str
-    space : HomographySpace
+    space : HomographySpace or FundamentalSpace
     data : ndarray of shape (N, 4)
     hypotheses
         Unused (OpenCV draws its own samples).
@@ -108,19 +130,38 @@ def run_opencv(name, space, data, hypotheses, *, threshold: float, prior=None, r
     Returns
     -------
     Consensus
-        The model with ``H33 = 1`` and no clusters; score: the size of
-        OpenCV's inlier mask. A ``None`` or non-finite answer is a failure.
+        The model with ``H33 = 1`` (fundamental matrices: unit Frobenius
+        norm, largest entry positive) and no clusters; score: the size of
+        OpenCV's inlier mask. A ``None`` or non-finite answer, or an error
+        OpenCV raises, is a failure with a reason.
     """
     import cv2
 
     confidence = check_fraction(confidence, "confidence", inclusive=(False, False))
+    fundamental = space.name == "fundamental"
+    what = MODELS[space.name]
+    if fundamental:
+        if len(data) < 8:
+            return Consensus.failed(f"OpenCV needs at least 8 matches for a {what}, "
+                                    f"got {len(data)}")
+        why = degenerate_reason(data)
+        if why is not None:
+            return Consensus.failed(f"no {what}: {why}")
     src = np.ascontiguousarray(data[:, :2], dtype=np.float64)
     dst = np.ascontiguousarray(data[:, 2:], dtype=np.float64)
-    H, mask = OPENCV[name][0](cv2, src, dst, threshold, int(n_hypotheses), confidence)
-    if H is None or not np.all(np.isfinite(H)) or abs(H[2, 2]) < 1e-12:
-        return Consensus.failed("OpenCV found no homography")
+    try:
+        M, mask = OPENCV[name][0](cv2, src, dst, threshold, int(n_hypotheses), confidence,
+                                  fundamental=fundamental)
+    except cv2.error as exc:
+        lines = [line for line in str(exc).splitlines() if line.strip()]
+        return Consensus.failed(f"OpenCV found no {what}: {lines[-1] if lines else exc}")
+    model = None if M is None else normalise_model(M, space.name)
+    if model is None:
+        return Consensus.failed(f"OpenCV found no {what}")
     mask = mask.ravel().astype(bool) if mask is not None else np.zeros(len(data), bool)
-    return Consensus(H / H[2, 2], score=float(mask.sum()),
+    if len(mask) != len(data):
+        mask = np.zeros(len(data), bool)
+    return Consensus(model, score=float(mask.sum()),
                      diagnostics={"opencv_mask": mask, "opencv_inliers": int(mask.sum())})
 
 
@@ -133,7 +174,7 @@ def _strategy(name):
 
     run.__name__ = run.__qualname__ = f"run_{name}"
     run.__doc__ = f":func:`run_opencv` with ``name={name!r}``."
-    return Strategy(name, run, uses_hypotheses=False, applies_to=("homography",),
+    return Strategy(name, run, uses_hypotheses=False, applies_to=("homography", "fundamental"),
                     summary=OPENCV[name][1], baseline=True)
 
 

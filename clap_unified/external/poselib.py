@@ -1,7 +1,12 @@
-"""PoseLib's robust homography estimator as the strategy ``"poselib"`` of :func:`~clap_unified.fit`.
+"""PoseLib's robust estimators as the strategy ``"poselib"`` of :func:`~clap_unified.fit`.
 
-``poselib.estimate_homography`` on the matches: LO-RANSAC on 4-point samples
-with PoseLib's non-linear refinement of the best model. A baseline
+In the homography space ``poselib.estimate_homography`` on the matches:
+LO-RANSAC on 4-point samples with PoseLib's non-linear refinement of the best
+model. In the fundamental space ``poselib.estimate_fundamental``: LO-RANSAC
+on 7-point samples, Sampson-error scoring, non-linear refinement; the
+threshold is its ``max_epipolar_error`` (Sampson error in pixels, the
+fundamental space's residual) and the model is scaled to unit Frobenius norm
+(convention ``x2^T F x1 = 0``, checked on a known ``F``). A baseline
 (``Strategy.baseline``), not one of the library's own strategies; it reads
 the data only (``uses_hypotheses=False``). The arguments mean what they mean
 for every strategy:
@@ -65,17 +70,18 @@ def _import_poselib():
 def run_poselib(space, data, hypotheses, *, threshold: float, prior=None, radius=None,
                 rng=None, n_hypotheses: int = 1000, confidence: float = 0.995,
                 min_iterations: int = 0) -> Consensus:
-    """``poselib.estimate_homography`` on checked matches.
+    """``poselib.estimate_homography`` (or ``estimate_fundamental``) on checked matches.
 
     Parameters
     ----------
-    space : HomographySpace
+    space : HomographySpace or FundamentalSpace
     data : ndarray of shape (N, 4)
         Rows ``(x1, y1, x2, y2)``.
     hypotheses
         Unused (PoseLib draws its own samples).
     threshold : float
-        ``max_reproj_error`` in pixels.
+        ``max_reproj_error`` (fundamental matrices: ``max_epipolar_error``)
+        in pixels.
     prior, radius
         Unused.
     rng : None, int or numpy.random.Generator
@@ -90,10 +96,10 @@ def run_poselib(space, data, hypotheses, *, threshold: float, prior=None, radius
     Returns
     -------
     Consensus
-        The model with ``H33 = 1`` and no clusters; score: the size of
-        PoseLib's inlier mask. A non-finite answer (PoseLib's failure) or an
-        empty mask, or degenerate matches, is a
-        failure with a reason.
+        The model with ``H33 = 1`` (fundamental matrices: unit Frobenius
+        norm) and no clusters; score: the size of PoseLib's inlier mask. A
+        non-finite answer (PoseLib's failure) or an empty mask, or degenerate
+        matches, is a failure with a reason.
 
     Raises
     ------
@@ -109,20 +115,26 @@ def run_poselib(space, data, hypotheses, *, threshold: float, prior=None, radius
     ([[2.0, 0.0, 0.0], [0.0, 2.0, 0.0], [0.0, 0.0, 1.0]], 50)
     """
     poselib = _import_poselib()
+    fundamental = space.name == "fundamental"
 
     def call(src, dst, t, max_iterations, min_iter, conf, seed):
-        opt = {"max_reproj_error": t, "max_iterations": max_iterations,
-               "min_iterations": min_iter, "success_prob": conf, "seed": seed}
-        H, info = poselib.estimate_homography(src, dst, opt)
-        return H, info.get("inliers", []), {
+        opt = {"max_iterations": max_iterations, "min_iterations": min_iter,
+               "success_prob": conf, "seed": seed}
+        if fundamental:
+            M, info = poselib.estimate_fundamental(src, dst, {**opt, "max_epipolar_error": t})
+        else:
+            M, info = poselib.estimate_homography(src, dst, {**opt, "max_reproj_error": t})
+        return M, info.get("inliers", []), {
             "poselib_iterations": int(info.get("iterations", 0)),
             "poselib_refinements": int(info.get("refinements", 0))}
 
     return run_peer("PoseLib", "poselib", call, data, threshold=threshold, rng=rng,
                     n_hypotheses=n_hypotheses, confidence=confidence,
-                    min_iterations=min_iterations)
+                    min_iterations=min_iterations, space_name=space.name)
 
 
 register_strategy(Strategy(
-    "poselib", run_poselib, uses_hypotheses=False, applies_to=("homography",), baseline=True,
-    summary="PoseLib's poselib.estimate_homography (LO-RANSAC, non-linear refinement)"))
+    "poselib", run_poselib, uses_hypotheses=False, applies_to=("homography", "fundamental"),
+    baseline=True,
+    summary="PoseLib's poselib.estimate_homography / estimate_fundamental (LO-RANSAC, "
+            "non-linear refinement)"))

@@ -3,6 +3,9 @@
 * :class:`Euclidean`: R^d, flat (input space, plain parameter vectors);
 * :class:`Line2D`: lines in the plane (a chart, not a group);
 * :class:`SE2`, :class:`SE3`: rigid motions;
+* :class:`ProjectiveMatrices`: 3 x 3 matrices up to scale and sign (fundamental
+  matrices), with the epipolar arithmetic :func:`seven_point`,
+  :func:`eight_point` and :func:`sampson_error`;
 * :class:`Homography`: planar homographies (PGL(3) with the ``H33 = 1`` or
   ``det = 1`` normalisation), with the paper's :func:`lie_distance`;
 * plain batched array functions: SO(3) maps (``so3_*``) and the matrix
@@ -12,8 +15,10 @@
 from ._matrix import expm, logm
 from .base import Manifold, MatrixLieGroup
 from .euclidean import Euclidean
+from .fundamental import eight_point, sampson_error, seven_point
 from .homography import Homography, frobenius_distance, lie_distance, normalise_h33
 from .lines import Line2D, canonical_lines, wrap_angle
+from .projective import ProjectiveMatrices, normalise_projective
 from .se2 import SE2
 from .se3 import SE3
 from .so3 import (
@@ -26,6 +31,7 @@ from .so3 import (
 )
 
 __all__ = ["SE2", "SE3", "Euclidean", "Homography", "Line2D", "Manifold", "MatrixLieGroup",
-           "canonical_lines", "expm", "frobenius_distance", "lie_distance", "logm",
-           "normalise_h33", "so3_exp", "so3_hat", "so3_left_jacobian",
+           "ProjectiveMatrices", "canonical_lines", "eight_point", "expm", "frobenius_distance",
+           "lie_distance", "logm", "normalise_h33", "normalise_projective", "sampson_error",
+           "seven_point", "so3_exp", "so3_hat", "so3_left_jacobian",
            "so3_left_jacobian_inverse", "so3_log", "so3_vee", "wrap_angle"]

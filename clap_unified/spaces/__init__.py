@@ -2,6 +2,7 @@
 
 from .base import HypothesisSet, HypothesisSpace
 from .circles import CircleSpace
+from .fundamental import FundamentalSpace
 from .homography import HomographySpace, dlt
 from .landmarks3d import Landmark3DSpace
 from .lines import LineSpace
@@ -12,6 +13,7 @@ from .sampling import enumerate_hypotheses, generate_hypotheses, sample_subsets
 __all__ = [
     "CircleSpace",
     "Correspondence3DSpace",
+    "FundamentalSpace",
     "HypothesisSet",
     "HomographySpace",
     "HypothesisSpace",
