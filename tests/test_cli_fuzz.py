@@ -177,7 +177,8 @@ def test_every_file_argument_any_bytes(content):
         out = Path(d) / "pano.png"
         for argv in (["fit", "line", f], ["fit", "homography", f], ["localize2d", f],
                      ["localize3d", f, "--map", good_map], ["localize3d", good_map, "--map", f],
-                     ["stitch", f, f, "-o", out]):
+                     ["stitch", f, f, "-o", out], ["segment", "line", f],
+                     ["segment", "circle", f], ["segment", "homography", f]):
             check_clean(*run(argv))
         assert not out.exists()
 

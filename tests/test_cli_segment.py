@@ -1,9 +1,15 @@
 """``clap-unified segment {line,circle,homography}``: every model in one CSV file."""
 
 import json
+import tempfile
+from pathlib import Path
 
 import numpy as np
 import pytest
+from hypothesis import given
+from hypothesis import strategies as st
+from test_cli_fuzz import FEW, FUZZ, check_clean, csv_texts, write
+from test_cli_fuzz import run as fuzz_run
 
 from clap_unified.cli import main
 from clap_unified.imaging.segment_matches import SEGMENT_DEFAULTS
@@ -229,3 +235,38 @@ def test_help_lists_kinds_and_exit_statuses(capsys):
         assert "inliers, data," not in out  # not fit's output form
     code, out, _ = run(["segment", "homography", "--help"], capsys)
     assert "default 5" in out and "magsac" in out
+
+
+# --- fuzzing: any CSV ends with 0, 1 or 2 and nothing else (the convention of test_cli_fuzz) ---
+
+@FUZZ
+@given(text=csv_texts(2), kind=st.sampled_from(["line", "circle"]),
+       method=st.sampled_from(["clap", "ransac", "randomized_hough", "t_linkage"]))
+def test_segment_points_any_csv(text, kind, method):
+    with tempfile.TemporaryDirectory() as d:
+        f = write(Path(d), "p.csv", text)
+        out = check_clean(*fuzz_run(["segment", kind, f, "--method", method,
+                                     "--hypotheses", "200"]))
+        if out is not None:
+            assert len(out["labels"]) == out["data"]
+            assert (out["models"] == []) is (out["success"] is False)
+
+
+@FEW
+@given(text=csv_texts(4), method=st.sampled_from(["clap", "ransac", "t_linkage"]))
+def test_segment_homography_any_csv(text, method):
+    with tempfile.TemporaryDirectory() as d:
+        f = write(Path(d), "m.csv", text)
+        out = check_clean(*fuzz_run(["segment", "homography", f, "--method", method,
+                                     "--hypotheses", "200"]))
+        if out is not None:
+            assert len(out["labels"]) == out["data"]
+
+
+@pytest.mark.parametrize("kind", ["line", "circle"])
+def test_huge_coordinates_without_overflow(tmp_path, kind):
+    """Coordinates up to 1e150 are read; the circumcircle's cubes of them must not overflow
+    (a warning would be an error here)."""
+    rows = "".join(f"{x},{y}\n" for x, y in [(1e150, 0)] + [(0, 0)] * 8 + [(0, 1e150)] * 2)
+    f = write(tmp_path, "huge.csv", rows)
+    check_clean(*fuzz_run(["segment", kind, f, "--method", "clap"]))
