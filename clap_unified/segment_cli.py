@@ -24,6 +24,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .cli import EXIT_STATUS, MAX_HYPOTHESES, _Parser
+from .imaging.segment_matches import SEGMENT_DEFAULTS, segment_matches
 from .io import MAX_ROWS, float_option, int_option, read_points_csv
 from .registry import segmenter_names
 from .result import SegmentationResult
@@ -106,34 +107,33 @@ def _in_space(for_data: Callable) -> Callable:
 def _matches(kind, data, method, threshold, n_hypotheses, seed, min_support):
     """A kind's ``run`` for matches: :func:`~clap_unified.imaging.segment_matches.segment_matches`
     (its defaults are :data:`~clap_unified.imaging.segment_matches.SEGMENT_DEFAULTS`)."""
-    from .imaging.segment_matches import segment_matches
-
     return segment_matches(data, kind, method, threshold=threshold, rng=seed,
                            n_hypotheses=n_hypotheses, min_support=min_support)
 
 
-def _match_defaults(kind: str) -> dict:
-    from .imaging.segment_matches import SEGMENT_DEFAULTS
-
-    return SEGMENT_DEFAULTS[kind]
-
-
-#: The kinds of ``segment``: name -> :class:`SegmentKind`.
+#: The kinds of ``segment``: name -> :class:`SegmentKind`. A kind of matches (``"fundamental"``)
+#: is one more entry with ``run=_matches``, once ``segment_matches`` knows it.
 KINDS = {
     "line": SegmentKind(
-        LineSpace, 2, _in_space(lambda pts: LineSpace.for_data(pts, metric="transfer")),
-        "x,y", "POINTS.csv", "2D lines", '{"normal": [a, b], "offset": c} (a*x + b*y = c)',
-        "distance in data units (default 2%% of the data's RMS radius, as fit line)",
-        _N_HYPOTHESES),
+        space=LineSpace, columns=2,
+        run=_in_space(lambda pts: LineSpace.for_data(pts, metric="transfer")),  # as fit line
+        row="x,y", metavar="POINTS.csv", what="2D lines",
+        model='{"normal": [a, b], "offset": c} (a*x + b*y = c)',
+        threshold="distance in data units (default 2%% of the data's RMS radius, as fit line)",
+        n_hypotheses=_N_HYPOTHESES),
     "circle": SegmentKind(
-        CircleSpace, 2, _in_space(lambda pts: CircleSpace()),
-        "x,y", "POINTS.csv", "circles", '{"centre": [x, y], "radius": r}',
-        "distance in data units (default 1%% of the data's RMS radius)", _N_HYPOTHESES),
+        space=CircleSpace, columns=2, run=_in_space(lambda pts: CircleSpace()),
+        row="x,y", metavar="POINTS.csv", what="circles",
+        model='{"centre": [x, y], "radius": r}',
+        threshold="distance in data units (default 1%% of the data's RMS radius)",
+        n_hypotheses=_N_HYPOTHESES),
     "homography": SegmentKind(
-        HomographySpace, 4, _matches, "x1,y1,x2,y2", "MATCHES.csv",
-        "homographies (planes)", '{"H": 3 x 3 row-major, H33 = 1} mapping point 1 to point 2',
-        f"reprojection error in pixels (default {_match_defaults('homography')['threshold']:g})",
-        _match_defaults("homography")["n_hypotheses"]),
+        space=HomographySpace, columns=4, run=_matches,
+        row="x1,y1,x2,y2", metavar="MATCHES.csv", what="homographies (planes)",
+        model='{"H": 3 x 3 row-major, H33 = 1} mapping point 1 to point 2',
+        threshold="reprojection error in pixels (default "
+                  f"{SEGMENT_DEFAULTS['homography']['threshold']:g})",
+        n_hypotheses=SEGMENT_DEFAULTS["homography"]["n_hypotheses"]),
 }
 
 
@@ -171,14 +171,14 @@ def _add_kind(kinds, name: str, kind: SegmentKind) -> None:
                         f"(at most {MAX_T_LINKAGE_ROWS} rows)"
                         + (", or another library's estimator in a remove-inliers loop"
                            if len(methods) > 4 else ""))
-    p.add_argument("--threshold", type=float_option(), default=None,
+    p.add_argument("--threshold", type=float_option(), default=None, metavar="T",
                    help=f"inlier {kind.threshold}")
-    p.add_argument("--seed", type=int_option(), default=0,
+    p.add_argument("--seed", type=int_option(), default=0, metavar="N",
                    help="random seed (default 0; the same seed gives the same output)")
-    p.add_argument("--hypotheses", type=int_option(1, MAX_HYPOTHESES), default=None,
+    p.add_argument("--hypotheses", type=int_option(1, MAX_HYPOTHESES), default=None, metavar="H",
                    help=f"hypotheses drawn (default {kind.n_hypotheses}); at most "
                         f"{MAX_HYPOTHESES}, and hypotheses x rows at most {MAX_SEGMENT_WORK:.0e}")
-    p.add_argument("--min-support", type=int_option(1, MAX_ROWS), default=None,
+    p.add_argument("--min-support", type=int_option(1, MAX_ROWS), default=None, metavar="K",
                    help=f"rows a model must explain to be kept (at least "
                         f"{kind.space().min_samples}, one minimal sample; default the larger "
                         "of 10, two minimal samples and 2%% of the rows)")
