@@ -45,6 +45,7 @@ COMMANDS = [
     "clap_unified.localization.cli",
     "clap_unified.localization.cli3d",
     "clap_unified.imaging.cli",
+    "clap_unified.segment_cli",
     "clap_unified.reproduce.cli",
 ]
 
@@ -75,7 +76,8 @@ exit status:
 A progress bar on standard error names the running stage (off with --quiet or when standard
 error is not a terminal)."""
 
-#: Commands whose output is not the common JSON form (their description says what it is).
+#: Commands whose output is not the common JSON form (their description or their own
+#: ``output:`` epilog says what it is).
 _OWN_OUTPUT = {"clap-unified reproduce"}
 
 #: ``--hypotheses`` at most (CLAP on lines: 1000000 take about 5 s and 1 GB).
@@ -206,7 +208,7 @@ def build_parser() -> argparse.ArgumentParser:
         leaf.formatter_class = argparse.RawDescriptionHelpFormatter
         if leaf.description and "\n" not in leaf.description:
             leaf.description = textwrap.fill(leaf.description, 92)
-        own = leaf.prog in _OWN_OUTPUT
+        own = leaf.prog in _OWN_OUTPUT or (leaf.epilog or "").startswith("output:")
         leaf.epilog = "\n\n".join(filter(None, [leaf.epilog, None if own else OUTPUT,
                                                  EXIT_STATUS]))
         if "--quiet" not in leaf._option_string_actions:

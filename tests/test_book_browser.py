@@ -24,7 +24,7 @@ import pytest
 BOOK = Path(__file__).resolve().parents[1] / "book" / "_build" / "html"
 CHAPTERS = sorted(p.name for p in (BOOK / "chapters").glob("*.html"))
 BROWSERS = ("chromium", "chromium-browser", "google-chrome")
-COMMANDS = ("fit", "localize2d", "localize3d", "stitch", "reproduce")
+COMMANDS = ("fit", "localize2d", "localize3d", "stitch", "reproduce", "segment")
 
 pytestmark = [
     pytest.mark.skipif(not (BOOK / "index.html").is_file(),

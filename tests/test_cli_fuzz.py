@@ -177,7 +177,8 @@ def test_every_file_argument_any_bytes(content):
         out = Path(d) / "pano.png"
         for argv in (["fit", "line", f], ["fit", "homography", f], ["localize2d", f],
                      ["localize3d", f, "--map", good_map], ["localize3d", good_map, "--map", f],
-                     ["stitch", f, f, "-o", out]):
+                     ["stitch", f, f, "-o", out], ["segment", "line", f],
+                     ["segment", "circle", f], ["segment", "homography", f]):
             check_clean(*run(argv))
         assert not out.exists()
 
@@ -466,7 +467,8 @@ def test_version_and_help_exit_0(capsys):
 def test_every_option_has_help_and_every_command_documents_output_and_exit_status():
     """The CLI reference is built from the parser: nothing may be left undocumented."""
     leaves = list(_leaves(build_parser()))
-    assert len(leaves) == 6  # fit line, fit homography, localize2d, localize3d, stitch, reproduce
+    assert len(leaves) == 9  # fit line, fit homography, localize2d, localize3d, stitch,
+    # reproduce, segment line, segment circle, segment homography
     for leaf in leaves:
         assert leaf.description, leaf.prog
         assert "exit status:" in leaf.epilog, leaf.prog

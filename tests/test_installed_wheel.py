@@ -149,6 +149,10 @@ def test_every_command_runs_from_the_installed_wheel(venv, inputs, tmp_path):
     h = ok("fit", "homography", inputs / "matches.csv")
     assert h["inliers"] >= 55 and np.allclose(np.array(h["model"]["H"])[:2, 2], [30, -20],
                                               atol=0.5)
+    d = ok("segment", "line", inputs / "points.csv")
+    assert [m["support"] for m in d["models"]] == [60] and len(d["labels"]) == 90
+    d = ok("segment", "homography", inputs / "matches.csv")
+    assert [m["support"] for m in d["models"]] == [60] and d["data"] == 80
     for field in ("adult", "kid"):  # the packaged field maps
         d = ok("localize2d", inputs / "obs2d.json", "--field", field)
         assert d["field"] == field and d["candidates"] > 0

@@ -59,17 +59,20 @@ class CircleSpace(HypothesisSpace):
         return check_points(data, "points", dim=2, min_count=self.min_samples)
 
     def solve_minimal(self, data, samples):
-        a, b, c = (data[samples[:, k]] for k in range(3))
+        scale = max(float(np.max(np.abs(data))), 1.0)
+        # in units of a power of two near the data's magnitude: the cubes below cannot
+        # overflow (coordinates up to 1e150), and the result is bit for bit the same
+        unit = 2.0 ** np.ceil(np.log2(scale))
+        a, b, c = (data[samples[:, k]] / unit for k in range(3))
         d = 2 * (a[:, 0] * (b[:, 1] - c[:, 1]) + b[:, 0] * (c[:, 1] - a[:, 1])
                  + c[:, 0] * (a[:, 1] - b[:, 1]))
-        scale = max(float(np.max(np.abs(data))), 1.0)
-        ok = np.abs(d) > 1e-9 * scale * scale  # collinear samples have no circle
+        ok = np.abs(d) > 1e-9 * (scale / unit) ** 2  # collinear samples have no circle
         a, b, c, d = a[ok], b[ok], c[ok], d[ok]
         sa, sb, sc = (np.sum(p * p, axis=1) for p in (a, b, c))
         cx = (sa * (b[:, 1] - c[:, 1]) + sb * (c[:, 1] - a[:, 1]) + sc * (a[:, 1] - b[:, 1])) / d
         cy = (sa * (c[:, 0] - b[:, 0]) + sb * (a[:, 0] - c[:, 0]) + sc * (b[:, 0] - a[:, 0])) / d
         r = np.hypot(a[:, 0] - cx, a[:, 1] - cy)
-        return np.c_[cx, cy, r], np.flatnonzero(ok)
+        return np.c_[cx, cy, r] * unit, np.flatnonzero(ok)
 
     def residuals(self, models, data) -> np.ndarray:
         m = np.asarray(models, dtype=float).reshape(-1, 3)
