@@ -31,6 +31,7 @@ from .result import SegmentationResult
 from .segmenting import segment
 from .spaces import LineSpace
 from .spaces.circles import CircleSpace
+from .spaces.fundamental import FundamentalSpace
 from .spaces.homography import HomographySpace
 
 __all__ = ["KINDS", "MAX_SEGMENT_ROWS", "MAX_SEGMENT_WORK", "MAX_T_LINKAGE_ROWS", "SEGMENT_OUTPUT",
@@ -111,8 +112,7 @@ def _matches(kind, data, method, threshold, n_hypotheses, seed, min_support):
                            n_hypotheses=n_hypotheses, min_support=min_support)
 
 
-#: The kinds of ``segment``: name -> :class:`SegmentKind`. A kind of matches (``"fundamental"``)
-#: is one more entry with ``run=_matches``, once ``segment_matches`` knows it.
+#: The kinds of ``segment``: name -> :class:`SegmentKind`.
 KINDS = {
     "line": SegmentKind(
         space=LineSpace, columns=2,
@@ -134,6 +134,13 @@ KINDS = {
         threshold="reprojection error in pixels (default "
                   f"{SEGMENT_DEFAULTS['homography']['threshold']:g})",
         n_hypotheses=SEGMENT_DEFAULTS["homography"]["n_hypotheses"]),
+    "fundamental": SegmentKind(
+        space=FundamentalSpace, columns=4, run=_matches,
+        row="x1,y1,x2,y2", metavar="MATCHES.csv", what="fundamental matrices (rigid motions)",
+        model='{"F": 3 x 3 row-major, unit norm} with x2^T F x1 = 0',
+        threshold="Sampson error in pixels (default "
+                  f"{SEGMENT_DEFAULTS['fundamental']['threshold']:g})",
+        n_hypotheses=SEGMENT_DEFAULTS["fundamental"]["n_hypotheses"]),
 }
 
 

@@ -467,8 +467,8 @@ def test_version_and_help_exit_0(capsys):
 def test_every_option_has_help_and_every_command_documents_output_and_exit_status():
     """The CLI reference is built from the parser: nothing may be left undocumented."""
     leaves = list(_leaves(build_parser()))
-    assert len(leaves) == 9  # fit line, fit homography, localize2d, localize3d, stitch,
-    # reproduce, segment line, segment circle, segment homography
+    assert len(leaves) == 10  # fit line, fit homography, localize2d, localize3d, stitch,
+    # reproduce, segment line, segment circle, segment homography, segment fundamental
     for leaf in leaves:
         assert leaf.description, leaf.prog
         assert "exit status:" in leaf.epilog, leaf.prog

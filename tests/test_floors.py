@@ -54,7 +54,7 @@ FLOORS = [
     # Experiments of the book and their claims.
     ["reproduce"],
     # The command line (``python -m clap_unified`` runs it).
-    ["cli", "__main__"],
+    ["cli", "segment_cli", "__main__"],
 ]
 
 FLOOR_OF = {unit: level for level, units in enumerate(FLOORS) for unit in units}

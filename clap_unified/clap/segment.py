@@ -53,11 +53,13 @@ def run_clap_segment(space, data, hypotheses: HypothesisSet, *, threshold: float
         Data a model must explain (the label cost's unit and ``"cover"``'s rule).
     refine_rounds : int
         Refits of each hypothesis on its inliers before clustering (0: none).
-    bandwidth : float, optional
+    bandwidth : float or "auto", optional
         ``None``: a cluster is the hypotheses that converged to the same
         inlier set. A number: density clusters within this radius in the
         space's manifold distance (:func:`~clap_unified.clap.run_clap`,
-        ``suppress=1``, at most ``max_clusters``).
+        ``suppress=1``, at most ``max_clusters``); ``"auto"``: the same with
+        :func:`~clap_unified.clap.auto_bandwidth` (the paper's CLAP, cluster
+        after cluster).
     select : {"label_cost", "cover"}
         How many models: by the label cost (``label_cost * min_support *
         threshold**2`` per model), or greedily by cluster support.
@@ -86,14 +88,17 @@ def run_clap_segment(space, data, hypotheses: HypothesisSet, *, threshold: float
         centres, support = models[first[order]], counts[order]
         how = "hypotheses converged to the same inliers"
     else:
-        bandwidth = check_positive(bandwidth, "bandwidth")
+        if bandwidth != "auto":
+            bandwidth = check_positive(bandwidth, "bandwidth")
         refined = HypothesisSet(models, hypotheses.samples, hypotheses.n_draws,
                                 hypotheses.n_degenerate, hypotheses.exhaustive, space)
-        found = run_clap(space, data, refined, threshold=threshold, bandwidth=bandwidth,
+        found = run_clap(space, data, refined, threshold=threshold,
+                         bandwidth=None if bandwidth == "auto" else bandwidth,
                          max_clusters=max_clusters, min_support=1, suppress=1.0)
         centres = np.array([c.model for c in found.clusters]).reshape(-1, *space.model_shape)
         support = np.array([c.support for c in found.clusters], dtype=int)
-        how = f"density clusters within bandwidth {bandwidth:g}"
+        bw = found.diagnostics.get("bandwidth", bandwidth)
+        how = f"density clusters within bandwidth {bw:.3g}"
     if select == "label_cost":
         cost = label_cost * min_support * threshold ** 2
         kept = select_by_label_cost(space, centres, data, threshold, cost, max_models)

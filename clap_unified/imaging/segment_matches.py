@@ -16,12 +16,14 @@ import numpy as np
 
 from .._validation import check_choice
 from ..segmenting import segment
+from ..spaces.fundamental import FundamentalSpace
 from ..spaces.homography import HomographySpace
 
 __all__ = ["SEGMENT_DEFAULTS", "SPACES", "evaluate_adelaidermf", "segment_matches"]
 
-#: Space of each kind of match segmentation.
-SPACES = {"homography": HomographySpace}
+#: Space of each kind of match segmentation, built for the matches (hypotheses compared in
+#: the normalised frame of the matches; residuals and models in pixels).
+SPACES = {"homography": HomographySpace.for_data, "fundamental": FundamentalSpace.for_data}
 
 #: Defaults of :func:`segment_matches`, per kind: the inlier threshold (pixels,
 #: the space's residual), the hypotheses drawn and how (local samples: a match
@@ -30,6 +32,7 @@ SPACES = {"homography": HomographySpace}
 #: AdelaideRMF by the benchmark ``bench/bench_adelaidermf.py``.
 SEGMENT_DEFAULTS = {
     "homography": {"threshold": 5.0, "n_hypotheses": 1000, "neighbours": 20},
+    "fundamental": {"threshold": 2.0, "n_hypotheses": 1000, "neighbours": 20},
 }
 
 
@@ -41,8 +44,9 @@ def segment_matches(matches, kind: str = "homography", method: str = "clap", *,
     Parameters
     ----------
     matches : array_like of shape (N, 4)
-    kind : {"homography"}
-        The model of one structure.
+    kind : {"homography", "fundamental"}
+        The model of one structure: a plane (homography) or a rigid motion
+        (fundamental matrix).
     method : str
         A segmenter (:func:`~clap_unified.registry.segmenter_names`).
     threshold, n_hypotheses, neighbours : optional
@@ -72,7 +76,7 @@ def segment_matches(matches, kind: str = "homography", method: str = "clap", *,
     n_hypotheses = defaults["n_hypotheses"] if n_hypotheses is None else n_hypotheses
     neighbours = defaults["neighbours"] if neighbours is None else neighbours
     local = {"neighbours": int(neighbours)} if neighbours else None
-    space = SPACES[kind]()
+    space = SPACES[kind](matches)
     from ..registry import get_segmenter
 
     segmenter = get_segmenter(method, space)
@@ -90,7 +94,7 @@ def evaluate_adelaidermf(kind: str = "homography", methods=("clap",), *, thresho
 
     Parameters
     ----------
-    kind : {"homography"}
+    kind : {"homography", "fundamental"}
     methods : sequence of str
     thresholds : sequence of float, optional
         Default: the kind's default threshold only.

@@ -6,7 +6,7 @@ the paper (:data:`CLAIMS`) and writes ``claims.json``, ``claims.md``, the CSV
 tables and the figures into ``DIR`` (:func:`reproduce`).
 """
 
-from . import exp_homography, exp_localization  # noqa: F401  (register the experiments)
+from . import exp_homography, exp_localization, exp_multimodel  # noqa: F401  (the experiments)
 from .claims import CLAIMS, VERDICTS, chapter_claims, evaluate_claims, verdict_lines
 from .registry import EXPERIMENTS, seed_for
 from .runner import MissingDataError, Reproduction, claims_markdown, reproduce, verdicts_markdown

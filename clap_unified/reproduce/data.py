@@ -31,8 +31,17 @@ def _vpg() -> None:
     vpg_root(download=True)
 
 
+def _adelaidermf() -> None:
+    from ..imaging.datasets.sources import fetch, load_manifest
+
+    for relpath in load_manifest("adelaidermf")["files"]:
+        if relpath.startswith("H/"):
+            fetch("adelaidermf", relpath)
+
+
 #: Data set name -> check raising ``OSError`` or ``ValueError`` when it is missing or corrupt.
 DATASETS = {
+    "adelaidermf": _adelaidermf,
     "homography": _homography,
     "stitching_sets": _stitching_sets,
     "vpg": _vpg,
