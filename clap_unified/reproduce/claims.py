@@ -532,7 +532,7 @@ CLAIMS = [
           "method at its best single threshold) is below both OpenCV's MAGSAC++ in a "
           "remove-inliers loop measured in the same run and the best published Progressive-X "
           "mean; partly when below one of them; else not reproduced",
-          _judge_several, "06_many_answers",
+          _judge_several, "05c_many_answers",
           deviations=(
               deviation("coherent clusters in the solution space (no measure)",
                         "the misclassification error of the segmentation the clusters give, "
