@@ -172,3 +172,88 @@ def test_refit_partition_drops_weak_models_and_refits():
     models, labels, kept = refit_partition(space, rough, pts, 0.05, 20)
     assert kept.tolist() == [0, 1] and len(models) == 2
     assert np.bincount(labels[labels >= 0]).min() >= 20
+
+
+def _plane_matches(rng, n=100):
+    src = rng.uniform(0, 640, (n, 2))
+    return np.c_[src, src + 5.0]
+
+
+@pytest.mark.parametrize("kind", ["homography", "fundamental"])
+@pytest.mark.parametrize("method", ["clap", "ransac", "t_linkage", "randomized_hough", "magsac"])
+def test_bad_matches_give_an_error_or_no_model(kind, method):
+    """Issue 26's bad input: a clear error naming the argument, or no model and a reason."""
+    import warnings
+
+    from clap_unified.imaging.segment_matches import segment_matches
+
+    rng = np.random.default_rng(0)
+    one = _plane_matches(rng)
+    for data, match in ((one[:3], "matches"), (np.r_[one, [[np.nan] * 4]], "matches"),
+                        (one[:, :3], "matches"), (one[:0], "matches")):
+        with pytest.raises(ValueError, match=match):
+            segment_matches(data, kind, method, rng=0)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # no RuntimeWarning escapes either
+        for data in (rng.uniform(0, 640, (150, 4)),          # pure noise
+                     np.repeat(one[:1], 50, axis=0)):         # one match fifty times
+            res = segment_matches(data, kind, method, rng=0)
+            assert res.n_models == 0 and not res.success and res.reason, (kind, method)
+            assert np.all(res.labels == -1) and len(res.labels) == len(data)
+        # ten matches of one plane, each ten times: that plane or nothing, never two
+        res = segment_matches(np.repeat(one[:10], 10, axis=0), kind, method, rng=0)
+        assert res.n_models <= 1 and (res.n_models == 0 or np.all(res.labels == 0)), res
+
+
+@pytest.mark.parametrize("scale", [1e-6, 1e6])
+def test_two_planes_at_any_scale_with_a_threshold_in_their_units(scale):
+    from clap_unified.imaging.segment_matches import segment_matches
+
+    rng = np.random.default_rng(1)
+    src = rng.uniform(0, 640, (200, 2))
+    dst = np.where(np.arange(200)[:, None] < 100, src + 20.0, 1.1 * src)
+    res = segment_matches(np.c_[src, dst] * scale, threshold=2.0 * scale, rng=0)
+    assert res.n_models == 2 and sorted(res.support.tolist()) == [100, 100]
+
+
+def test_the_experiment_never_hands_labels_to_an_estimator(monkeypatch):
+    """AdelaideRMF's labels reach only the score: segment() sees the matches and nothing else."""
+    from clap_unified.imaging import segment_matches as sm
+    from clap_unified.imaging.datasets.adelaidermf import load_adelaidermf
+
+    try:
+        pair = load_adelaidermf("bonython", images=False)
+    except OSError:
+        pytest.skip("AdelaideRMF is not here")
+    seen = []
+    real = sm.segment
+
+    def spy(space, data, method, **kw):
+        seen.append((np.array(data), kw))
+        return real(space, data, method, **kw)
+
+    monkeypatch.setattr(sm, "segment", spy)
+    rows = sm.evaluate_adelaidermf("homography", ("clap", "ransac"), seeds=(0,),
+                                   names=["bonython"])
+    assert len(rows) == 2 and len(seen) == 2
+    labels = np.asarray(pair.truth.labels)
+    for data, kw in seen:
+        np.testing.assert_array_equal(data, pair.input.matches)
+        assert all(not (isinstance(v, np.ndarray) and v.shape == labels.shape)
+                   for v in kw.values())
+
+
+def test_local_samples_take_other_places_when_rows_repeat():
+    from clap_unified.spaces.sampling import sample_local_subsets
+
+    pts = np.random.default_rng(0).uniform(0, 100, (30, 2))
+    rows = np.repeat(pts, 5, axis=0)                     # every point five times
+    s = sample_local_subsets(rows, 4, 300, 10, rng=0)
+    places = np.unique(rows, axis=0, return_inverse=True)[1].reshape(-1)[s]
+    assert np.all(np.sort(places, axis=1)[:, 1:] != np.sort(places, axis=1)[:, :-1])
+    np.testing.assert_array_equal(s, sample_local_subsets(rows, 4, 300, 10, rng=0))
+    # without repeats: the seed first, the others among its 10 nearest
+    s = sample_local_subsets(pts, 3, 50, 10, rng=1)
+    d = np.linalg.norm(pts[:, None] - pts[None], axis=2)
+    tenth = np.sort(d, axis=1)[:, 10]
+    assert np.all(d[s[:, :1], s[:, 1:]] <= tenth[s[:, :1]] + 1e-12)

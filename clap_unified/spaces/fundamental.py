@@ -95,7 +95,11 @@ class FundamentalSpace(HypothesisSpace):
         data = check_points(matches, "matches", dim=4, min_count=cls.min_samples)
         T1, T2 = normalise_points(data.reshape(-1, 2, 2).transpose(1, 0, 2))[1]
         space = cls()
-        space._manifold = ProjectiveMatrices(left=np.linalg.inv(T2).T, right=np.linalg.inv(T1))
+        try:
+            frame = ProjectiveMatrices(left=np.linalg.inv(T2).T, right=np.linalg.inv(T1))
+        except (ValueError, np.linalg.LinAlgError):
+            return space  # the points of an image coincide: no frame, every sample degenerate
+        space._manifold = frame
         return space
 
     def __repr__(self) -> str:

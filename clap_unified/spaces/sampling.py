@@ -103,19 +103,53 @@ def sample_local_subsets(coords, size: int, n_samples: int, neighbours: int, *,
     n_samples = check_int(n_samples, "n_samples", minimum=0)
     if size > n_data:
         raise ValueError(f"size: cannot draw {size} distinct indices from {n_data}")
-    neighbours = min(check_int(neighbours, "neighbours", minimum=size - 1), n_data - 1)
+    neighbours = check_int(neighbours, "neighbours", minimum=size - 1)
     g = as_generator(rng)
+    places, place_of = np.unique(coords, axis=0, return_inverse=True)
+    if len(places) < n_data:  # repeated rows: neighbours are other places, not copies
+        return _local_subsets_of_places(places, place_of.reshape(-1), size, n_samples,
+                                        neighbours, g)
+    neighbours = min(neighbours, n_data - 1)
     # neighbours + 1 nearest (the seed itself among them), the seed put first in every row
     _, near = cKDTree(coords).query(coords, k=neighbours + 1)
     near = np.asarray(near).reshape(n_data, neighbours + 1)
     own = near == np.arange(n_data)[:, None]
-    own[~own.any(axis=1), -1] = True  # duplicates: the seed may not be listed; drop the last
+    own[~own.any(axis=1), -1] = True  # equidistant ties: the seed may not be listed
     near = np.concatenate([np.arange(n_data)[:, None],
                            near[~own].reshape(n_data, neighbours)], axis=1)
     seeds = g.integers(0, n_data, size=n_samples)
     pick = sample_subsets(neighbours, size - 1, n_samples, rng=g) + 1 if size > 1 else \
         np.empty((n_samples, 0), dtype=np.intp)
     return np.c_[seeds, near[seeds[:, None], pick]].astype(np.intp)
+
+
+def _local_subsets_of_places(places, place_of, size, n_samples, neighbours, g):
+    """Local subsets when rows repeat: a seed row, then rows at other nearby places.
+
+    Each other member is a random row at one of the seed's ``neighbours``
+    nearest distinct places; with fewer distinct places than ``size`` every
+    sample repeats a place (and is degenerate, as the data are).
+    """
+    from scipy.spatial import cKDTree
+
+    n_data, n_places = len(place_of), len(places)
+    order = np.argsort(place_of, kind="stable")
+    counts = np.bincount(place_of, minlength=n_places)
+    starts = np.r_[0, np.cumsum(counts)[:-1]]
+    seeds = g.integers(0, n_data, size=n_samples)
+    if size == 1:
+        return seeds[:, None].astype(np.intp)
+    k = min(neighbours, n_places - 1)
+    if k < size - 1:  # too few places: draw among all rows (samples repeat places)
+        return np.c_[seeds, sample_subsets(n_data, size - 1, n_samples, rng=g)].astype(np.intp)
+    _, near = cKDTree(places).query(places, k=k + 1)
+    near = np.asarray(near).reshape(n_places, k + 1)
+    own = near == np.arange(n_places)[:, None]
+    own[~own.any(axis=1), -1] = True
+    near = near[~own].reshape(n_places, k)
+    picked = near[place_of[seeds][:, None], sample_subsets(k, size - 1, n_samples, rng=g)]
+    rows = order[starts[picked] + (g.random(picked.shape) * counts[picked]).astype(np.intp)]
+    return np.c_[seeds, rows].astype(np.intp)
 
 
 def unsolved_samples(k: int, owner) -> int:
