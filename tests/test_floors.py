@@ -162,3 +162,17 @@ def test_importing_spaces_loads_no_application():
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                          check=True, env=env, cwd=ROOT.parent).stdout.split()
     assert out == [], f"importing clap_unified.spaces loaded applications: {out}"
+
+
+def test_no_two_modules_import_each_other():
+    """Within a floor too: a module and one it imports never import each other (a package
+    and its own submodules aside: ``__init__`` gathers what they define)."""
+    edges = {}
+    for path, _line, _unit_name, target in _imports():
+        module, _ = _module_name(ROOT.parent / path)
+        edges.setdefault(module, set()).add(target)
+    circles = sorted(
+        f"{a} <-> {b}" for a, targets in edges.items() for b in targets
+        if a < b and a in edges.get(b, ()) and not b.startswith(a + ".")
+        and not a.startswith(b + "."))
+    assert not circles, "modules importing each other:\n" + "\n".join(circles)

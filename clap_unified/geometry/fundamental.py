@@ -18,11 +18,8 @@ entry of largest magnitude positive
   correspondences, so a threshold in pixels means what it means for a
   homography's transfer error.
 
-Hartley normalisation lives in
-:func:`clap_unified.spaces.homography.normalise_points`, a floor above this
-one; importing it from here would be an upward import, so the same
-arithmetic (centroid to the origin, mean distance ``sqrt(2)``) is written
-here once more, in :func:`_hartley`.
+Hartley normalisation is :func:`~clap_unified.geometry.homography_arithmetic.normalise_points`,
+the one copy on this floor.
 """
 
 from __future__ import annotations
@@ -30,6 +27,7 @@ from __future__ import annotations
 import numpy as np
 
 from .._validation import check_array
+from .homography_arithmetic import normalise_points
 from .projective import normalise_projective
 
 __all__ = ["eight_point", "sampson_denominator", "sampson_error", "seven_point"]
@@ -41,23 +39,6 @@ RANK_RATIO = 1e-9
 EIGEN_RATIO = 1e-12
 #: Roots of the cubic whose imaginary part is below this (relative) are real.
 REAL_TOL = 1e-8
-
-
-def _hartley(p, weights=None):
-    """Hartley normalisation of ``p`` ``(..., N, 2)``: the points and ``T`` ``(..., 3, 3)``."""
-    if weights is None:
-        w = np.full(p.shape[:-1], 1.0 / p.shape[-2])
-    else:
-        w = weights / weights.sum(axis=-1, keepdims=True)
-    centre = np.einsum("...n,...nk->...k", w, p)
-    q = p - centre[..., None, :]
-    mean_d = np.einsum("...n,...n->...", w, np.sqrt(np.sum(q * q, axis=-1)))
-    s = np.sqrt(2.0) / np.where(mean_d > 0, mean_d, 1.0)
-    T = np.zeros((*s.shape, 3, 3))
-    T[..., 0, 0] = T[..., 1, 1] = s
-    T[..., :2, 2] = -s[..., None] * centre
-    T[..., 2, 2] = 1.0
-    return q * s[..., None, None], T
 
 
 def _constraints(q1, q2):
@@ -111,8 +92,8 @@ def seven_point(x1, x2):
     n = len(x1)
     if n == 0:
         return np.empty((0, 3, 3)), np.empty(0, dtype=np.intp)
-    q1, T1 = _hartley(x1)
-    q2, T2 = _hartley(x2)
+    q1, T1 = normalise_points(x1)
+    q2, T2 = normalise_points(x2)
     A = _constraints(q1, q2)  # (S, 7, 9)
     # the null space of A: the last two columns of Q in the complete QR of A^T (a third
     # of the time of an SVD); a constraint dependent on the previous ones leaves a
@@ -203,8 +184,8 @@ def eight_point(x1, x2, weights=None):
         w = np.ones(len(x1))
     if len(x1) < 8:
         return None
-    q1, T1 = _hartley(x1, w)
-    q2, T2 = _hartley(x2, w)
+    q1, T1 = normalise_points(x1, w)
+    q2, T2 = normalise_points(x2, w)
     A = _constraints(q1, q2)
     M = A.T @ (A * (w / w.sum())[:, None])
     evals, evecs = np.linalg.eigh(M)

@@ -15,7 +15,7 @@ import numpy as np
 
 from .._validation import check_array, check_points
 from ..geometry.homography import lie_distance
-from ..spaces.homography import symmetric_transfer_error, transfer
+from ..geometry.homography_arithmetic import symmetric_transfer_error, transfer
 
 __all__ = ["corner_error", "lie_error", "symmetric_reprojection_error", "transfer"]
 

@@ -1,9 +1,10 @@
 """Hypothesis spaces: model families, their minimal solvers and residuals."""
 
-from .base import HypothesisSet, HypothesisSpace
+from .base import HypothesisSpace
 from .circles import CircleSpace
 from .fundamental import FundamentalSpace
 from .homography import HomographySpace, dlt
+from .hypothesis_set import HypothesisSet
 from .landmarks3d import Landmark3DSpace
 from .lines import LineSpace
 from .observations import ObservationSpace

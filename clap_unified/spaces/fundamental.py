@@ -17,9 +17,9 @@ import numpy as np
 
 from .._validation import check_points
 from ..geometry.fundamental import eight_point, sampson_denominator, sampson_error, seven_point
+from ..geometry.homography_arithmetic import normalise_points
 from ..geometry.projective import ProjectiveMatrices, normalise_projective
 from .base import HypothesisSpace
-from .homography import normalise_points
 
 __all__ = ["FundamentalSpace"]
 

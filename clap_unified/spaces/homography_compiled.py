@@ -7,9 +7,9 @@ the same arithmetic in one compiled loop:
 
 * :func:`symmetric_transfer_error` -- the symmetric transfer error of one
   homography on every match, as
-  :func:`~clap_unified.spaces.homography.symmetric_transfer_error`;
+  :func:`~clap_unified.geometry.homography_arithmetic.symmetric_transfer_error`;
 * :func:`weighted_dlt` -- the Hartley-normalised weighted DLT of a subset of
-  the matches, as :func:`~clap_unified.spaces.homography.dlt`;
+  the matches, as :func:`~clap_unified.geometry.homography_arithmetic.dlt`;
 * :func:`irls` -- the reweighted DLT loop of the polish, with the same
   stopping rules;
 * :func:`four_point_solve` -- the closed-form 4-point solutions of thousands
@@ -85,7 +85,7 @@ def weighted_dlt(m, w):
 
     ``w`` are the weights ``(N,)``. From 8 matches on, the eigenvector of
     the smallest eigenvalue of ``A^T A``; below, the last right singular
-    vector of the weighted ``A``, as :func:`~clap_unified.spaces.homography.dlt`.
+    vector of the weighted ``A``, as :func:`~clap_unified.geometry.homography_arithmetic.dlt`.
     """
     n = m.shape[0]
     csx, csy, ss = _centre_scale(m[:, :2], w)

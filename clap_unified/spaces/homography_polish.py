@@ -20,8 +20,8 @@ import numpy as np
 
 from .. import _compiled
 from .._validation import check_array, check_int, check_points, check_positive
+from ..geometry.homography_arithmetic import dlt, symmetric_transfer_error, transfer
 from . import homography_compiled
-from .homography import dlt, symmetric_transfer_error, transfer
 
 __all__ = ["polish_checked", "polish_homography"]
 

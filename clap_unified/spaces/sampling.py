@@ -8,7 +8,7 @@ from math import comb
 import numpy as np
 
 from .._validation import as_generator, check_choice, check_int
-from .base import HypothesisSet, HypothesisSpace
+from .hypothesis_set import HypothesisSet
 
 __all__ = ["generate_hypotheses", "enumerate_hypotheses", "sample_local_subsets",
            "sample_subsets", "unsolved_samples"]
@@ -166,7 +166,7 @@ def unsolved_samples(k: int, owner) -> int:
                                                 minlength=k)))
 
 
-def enumerate_hypotheses(space: HypothesisSpace, data) -> HypothesisSet:
+def enumerate_hypotheses(space, data) -> HypothesisSet:
     """Solve every ``min_samples``-subset of ``data`` (use only when that is small).
 
     Examples
@@ -185,7 +185,7 @@ def enumerate_hypotheses(space: HypothesisSpace, data) -> HypothesisSet:
     return HypothesisSet(models, idx[owner], len(idx), n_bad, True, space)
 
 
-def generate_hypotheses(space: HypothesisSpace, data, n: int = 1000, *, rng=None,
+def generate_hypotheses(space, data, n: int = 1000, *, rng=None,
                         exhaustive="auto", max_draws: int | None = None,
                         batch_size: int | None = None, neighbours: int | None = None,
                         coords=None) -> HypothesisSet:

@@ -259,7 +259,7 @@ def load_evd(name: str, *, images: bool = True) -> HomographyPair:
     ValueError
         Unknown ``name``, malformed file, fewer than 4 labelled inliers.
     """
-    from ...spaces.homography import dlt
+    from ...geometry.homography_arithmetic import dlt
 
     _check_name(name, evd_names(), "EVD")
     path = fetch(_DATASET, f"extremeview/{name}_pts.txt")

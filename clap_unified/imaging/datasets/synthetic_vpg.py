@@ -33,7 +33,7 @@ from pathlib import Path
 import numpy as np
 
 from ..._validation import as_generator, check_int
-from ...spaces.homography import transfer
+from ...geometry.homography_arithmetic import transfer
 
 __all__ = ["SCENES", "load_synthetic_vpg", "make_synthetic_vpg", "scene_picture", "true_homography"]
 

@@ -108,7 +108,7 @@ class VPGTruth:
         ValueError
             The set has no ground-truth correspondences for ``(i, j)``.
         """
-        from ...spaces.homography import dlt
+        from ...geometry.homography_arithmetic import dlt
 
         if (i, j) not in self.correspondences:
             raise ValueError(f"(i, j): no ground-truth correspondences m{i:02d}-{j:02d}.txt")
