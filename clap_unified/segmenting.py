@@ -74,7 +74,7 @@ def segment(space, data, method: str = "clap", *, n_hypotheses: int = 2000,
         Use these instead of drawing them (to compare segmenters on identical
         hypotheses).
     min_support : int, optional
-        Data a model must explain to be kept (:func:`default_min_support`).
+        Data a model must explain to be kept (:func:`~clap_unified.segmenting.default_min_support`).
     refine : bool
         The common finish: reassign the data to the nearest model, refit each
         model on its data, drop the models left with fewer than

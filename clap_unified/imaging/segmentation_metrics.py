@@ -80,7 +80,7 @@ def misclassification_error(predicted, truth) -> float:
     """Share of data labelled wrongly under the best one-to-one matching of structures.
 
     The predicted structures are matched to the true ones one-to-one so that
-    the most data agree (:func:`scipy.optimize.linear_sum_assignment` on the
+    the most data agree (``scipy.optimize.linear_sum_assignment`` on the
     :func:`contingency_table`); the outliers are matched only to the
     outliers. A datum is misclassified when its predicted label, so mapped,
     differs from its true label: a predicted structure left unmatched (more

@@ -213,8 +213,8 @@ def generate_hypotheses(space, data, n: int = 1000, *, rng=None,
     batch_size : int, optional
         Samples solved per batch (default ``n``).
     neighbours : int, optional
-        Local sampling (:func:`sample_local_subsets`): each sample is a seed
-        and others among its ``neighbours`` nearest data by ``coords``
+        Local sampling (:func:`~clap_unified.spaces.sampling.sample_local_subsets`):
+        each sample is a seed and others among its ``neighbours`` nearest data by ``coords``
         (default the data's rows flattened). Never exhaustive.
     coords : ndarray of shape (N, d), optional
 
