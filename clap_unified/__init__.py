@@ -28,7 +28,7 @@ from .registry import (
     strategy_names,
 )
 from .result import Cluster, Consensus, ConsensusResult, Segmentation, SegmentationResult
-from .segmenting import segment
+from .segmenting import compare_segmenters, segment
 from .spaces import (
     FundamentalSpace,
     HypothesisSet,
@@ -56,6 +56,7 @@ __all__ = [
     "LineSpace",
     "clap",
     "compare",
+    "compare_segmenters",
     "fit",
     "fit_line",
     "get_strategy",

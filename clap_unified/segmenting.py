@@ -30,7 +30,7 @@ from .registry import get_segmenter
 from .result import SegmentationResult
 from .spaces.base import HypothesisSet, HypothesisSpace
 
-__all__ = ["default_min_support", "segment"]
+__all__ = ["compare_segmenters", "default_min_support", "segment"]
 
 #: Arguments :func:`segment` gives every segmenter's ``run``; the rest are its options.
 COMMON = ("threshold", "rng", "n_hypotheses", "min_support")
@@ -145,6 +145,65 @@ def segment(space, data, method: str = "clap", *, n_hypotheses: int = 2000,
                                   scores[:0], found.selection, diag, space, problem.threshold)
     return SegmentationResult(method, True, "ok", models, labels, scores, found.selection, diag,
                               space, problem.threshold)
+
+
+def compare_segmenters(space, data, *, methods=("randomized_hough", "ransac", "t_linkage", "clap"),
+                       n_hypotheses: int = 2000, threshold: float | None = None, rng=None,
+                       min_support: int | None = None, options: dict | None = None,
+                       sampling: dict | None = None) -> dict[str, SegmentationResult]:
+    """Several segmenters on the *same* hypotheses, drawn once: the multi-model ``compare``.
+
+    Parameters
+    ----------
+    space : HypothesisSpace
+    data : array_like
+    methods : sequence of str
+        Registered segmenters that apply to ``space``; those that draw their
+        own samples (sequential RANSAC, the peers) draw them from ``rng``.
+    n_hypotheses, threshold, rng, min_support, sampling
+        As :func:`segment`, the same for every method.
+    options : dict, optional
+        Per-method options, e.g. ``{"clap": {"label_cost": 2.0}}``.
+
+    Returns
+    -------
+    dict
+        Method name to :class:`~clap_unified.result.SegmentationResult`; each
+        result's ``diagnostics["generation_seconds"]`` is the shared
+        generation time.
+
+    Examples
+    --------
+    >>> from clap_unified import LineSpace
+    >>> rng = np.random.default_rng(0)
+    >>> x = rng.uniform(-5, 5, 200)
+    >>> pts = np.c_[x, np.where(np.arange(200) < 100, 0.5 * x + 1, -x)]
+    >>> out = compare_segmenters(LineSpace.for_data(pts), pts, threshold=0.05, rng=0,
+    ...                          methods=("ransac", "t_linkage", "clap"))
+    >>> {name: r.n_models for name, r in out.items()}
+    {'ransac': 2, 't_linkage': 2, 'clap': 2}
+    """
+    if isinstance(methods, str):
+        methods = (methods,)
+    if not isinstance(space, HypothesisSpace):
+        raise ValueError(f"space: expected a HypothesisSpace, got {type(space).__name__}")
+    segmenters = [get_segmenter(m, space) for m in methods]
+    options = {} if options is None else dict(options)
+    for key in options:
+        if key not in methods:
+            raise ValueError(f"options: {key!r} is not among methods {list(methods)}")
+    problem = check_problem(space, data, threshold)
+    n_hypotheses = check_int(n_hypotheses, "n_hypotheses", minimum=1)
+    hypotheses, _, gen = draw_hypotheses(problem, n_hypotheses, rng, sampling=sampling,
+                                         wanted=any(s.uses_hypotheses for s in segmenters))
+    out = {}
+    for s in segmenters:
+        res = segment(space, problem.data, s.name, n_hypotheses=n_hypotheses,
+                      threshold=problem.threshold, rng=rng, min_support=min_support,
+                      hypotheses=hypotheses if s.uses_hypotheses else None,
+                      **options.get(s.name, {}))
+        out[s.name] = res.replace(diagnostics={"generation_seconds": gen})
+    return out
 
 
 def _check_segmenter_options(segmenter, options) -> None:

@@ -257,3 +257,21 @@ def test_local_samples_take_other_places_when_rows_repeat():
     d = np.linalg.norm(pts[:, None] - pts[None], axis=2)
     tenth = np.sort(d, axis=1)[:, 10]
     assert np.all(d[s[:, :1], s[:, 1:]] <= tenth[s[:, :1]] + 1e-12)
+
+
+def test_compare_segmenters_runs_every_method_on_one_hypothesis_set():
+    from clap_unified import compare_segmenters
+    from clap_unified.fitting import check_problem, draw_hypotheses
+
+    pts, truth = two_lines(5)
+    space = LineSpace.for_data(pts)
+    out = compare_segmenters(space, pts, methods=("t_linkage", "clap", "ransac"),
+                             threshold=0.05, rng=3, n_hypotheses=500)
+    assert list(out) == ["t_linkage", "clap", "ransac"]
+    hyps, _, _ = draw_hypotheses(check_problem(space, pts, 0.05), 500, 3)
+    for name in ("t_linkage", "clap"):  # the same hypotheses as one draw with the seed
+        alone = segment(space, pts, name, threshold=0.05, hypotheses=hyps, n_hypotheses=500)
+        np.testing.assert_array_equal(out[name].labels, alone.labels)
+    assert all(agreement(r.labels, truth) > 0.95 for r in out.values())
+    with pytest.raises(ValueError, match="options"):
+        compare_segmenters(space, pts, methods=("clap",), options={"ransac": {}})
