@@ -1,7 +1,8 @@
 """Commands ``clap-unified stitch`` and ``clap-unified fit homography``.
 
 Bad input (a missing or unreadable image or CSV, a folder, an image over
-:data:`MAX_IMAGE_PIXELS`, an unwritable output) raises ``ValueError``: the command prints
+:data:`MAX_IMAGE_PIXELS`, an unwritable output, ``--hypotheses`` times the matches over
+:data:`~clap_unified.cli.MAX_WORK`) raises ``ValueError``: the command prints
 one line and exits with status 2. A failed estimate (fewer than 8 matches, no consensus,
 fewer than 8 matches agreeing with it, a homography that gives no plausible panorama) is a
 result with ``success: false`` and a ``reason``: status 1.
@@ -17,10 +18,11 @@ from pathlib import Path
 
 import numpy as np
 
+from ..cli import MAX_HYPOTHESES, MAX_WORK, check_budget
 from ..io import float_option, int_option, read_points_csv
 from ..result import ConsensusResult
 from ..spaces.homography import HomographySpace
-from .estimate import MIN_MATCHES, estimate_homography, method_names
+from .estimate import MIN_MATCHES, PROTOCOLS, estimate_homography, method_names
 
 __all__ = ["MAX_IMAGE_PIXELS", "MAX_MATCHES", "add_fit_homography", "fit_homography_command",
            "register", "stitch_command"]
@@ -42,6 +44,34 @@ _METHOD_HELP = ("homography estimator (default clap): clap (the library's CLAP),
                 "trimming inside the densest cluster, polished), ransac, randomized_hough, "
                 "or another library's estimator (cv2_ransac, magsac, usac_accurate, "
                 "usac_ransac_fixed, poselib, colmap)")
+
+
+def _budgets() -> str:
+    """The protocols' budgets, e.g. ``"1000 (clap, ransac), 400 (clap_paper)"``."""
+    by = {}
+    for name, protocol in PROTOCOLS.items():
+        by.setdefault(protocol.get("n_hypotheses", 1000), []).append(name)
+    return ", ".join(f"{n} ({', '.join(names)})" for n, names in by.items())
+
+
+def _add_hypotheses(p) -> None:
+    """``--hypotheses H``: override the protocol's ``n_hypotheses`` (default: keep it)."""
+    cap = PROTOCOLS["clap"]["max_hypotheses"]
+    p.add_argument("--hypotheses", type=int_option(1, MAX_HYPOTHESES), default=None, metavar="H",
+                   help=f"hypotheses (CLAP, randomized Hough), trials (RANSAC) or the iteration "
+                        f"cap (the other libraries' estimators); default the method's protocol: "
+                        f"{_budgets()}; clap draws up to {cap} (or H if more) when few "
+                        f"matches agree; at most {MAX_HYPOTHESES}, and hypotheses x matches at "
+                        f"most {MAX_WORK:.0e}")
+
+
+def _budget(args, n: int) -> dict:
+    """``{"n_hypotheses": H}`` when ``--hypotheses`` is given (checked against ``n`` data),
+    else nothing: the protocol's budget."""
+    if args.hypotheses is None:
+        return {}
+    check_budget(args.method, args.hypotheses, n)
+    return {"n_hypotheses": args.hypotheses}
 
 
 def register(sub) -> None:
@@ -69,6 +99,7 @@ def register(sub) -> None:
     p.add_argument("--seed", type=int_option(), default=0, help="random seed (default 0)")
     p.add_argument("--ratio", type=float_option(0.0, 1.0), default=0.75,
                    help="Lowe's ratio test for SIFT matches, in (0, 1] (default 0.75)")
+    _add_hypotheses(p)
     p.set_defaults(run=stitch_command)
 
 
@@ -88,6 +119,7 @@ def add_fit_homography(kinds) -> None:
     p.add_argument("--seed", type=int_option(), default=0, help="random seed (default 0)")
     p.add_argument("--threshold", type=float_option(), default=3.0,
                    help="inlier reprojection error in pixels (default 3)")
+    _add_hypotheses(p)
     p.set_defaults(run=fit_homography_command)
 
 
@@ -110,12 +142,18 @@ def _estimate(matches: np.ndarray, method: str, where: str, **options) -> Consen
     return res
 
 
+def _hypotheses_text(budget: dict) -> str:
+    """``", H hypotheses"`` for the progress bar when ``--hypotheses`` is given, else ``""``."""
+    return f", {budget['n_hypotheses']} hypotheses" if budget else ""
+
+
 def fit_homography_command(args) -> dict:
     args.progress.stage("reading matches")
     matches = read_points_csv(args.matches, columns=4, min_rows=1, max_rows=MAX_MATCHES)
-    args.progress.stage(f"fitting ({args.method})")
+    budget = _budget(args, len(matches))
+    args.progress.stage(f"fitting ({args.method}{_hypotheses_text(budget)})")
     res = _estimate(matches, args.method, f"in {args.matches}", rng=args.seed,
-                    threshold=args.threshold)
+                    threshold=args.threshold, **budget)
     return {**res.to_dict(), "matches": len(matches)}
 
 
@@ -194,10 +232,11 @@ def stitch_command(args) -> dict:
     right = read_image_checked(args.right, "RIGHT")
     args.progress.stage("matching SIFT features")
     matches, _ = sift_matches(left, right, ratio=args.ratio)
-    args.progress.stage(f"estimating the homography ({args.method})")
+    budget = _budget(args, len(matches))
+    args.progress.stage(f"estimating the homography ({args.method}{_hypotheses_text(budget)})")
     res = _estimate(matches, args.method,
                     f"between {args.left} and {args.right} (passing the ratio test)",
-                    rng=args.seed)
+                    rng=args.seed, **budget)
     extra = {"matches": len(matches), "blend": args.blend, "output": None, "size": None}
     if not res.success:
         return {**res.to_dict(), **extra}

@@ -2,10 +2,12 @@
 
 from __future__ import annotations
 
+import inspect
 from pathlib import Path
 
 import numpy as np
 
+from ..cli import MAX_HYPOTHESES, MAX_WORK, check_budget
 from ..io import int_option, read_typed_points
 from ..maps.field import FIELD_DIMENSIONS, LANDMARK_TYPES, load_field
 from ..registry import strategy_names
@@ -61,9 +63,13 @@ def _space(field: str) -> Landmark2DSpace:
 def _localize2d(args) -> dict:
     args.progress.stage("reading detections")
     data = read_observations(args.observations)
+    budget = {}
+    if args.hypotheses is not None:
+        check_budget(args.method, args.hypotheses, len(data))
+        budget = {"n_hypotheses": args.hypotheses}
     args.progress.stage(f"localizing ({args.method})")
     res = localize2d(data, space=_space(args.field), method=args.method, prior=args.prior,
-                     rng=args.seed)
+                     rng=args.seed, **budget)
     return {**res.to_dict(), "candidates": int(res.diagnostics.get("hypotheses", 0)),
             "field": args.field}
 
@@ -93,4 +99,10 @@ def register(sub) -> None:
                         "candidates near it")
     p.add_argument("--seed", type=int_option(), default=0,
                    help="random seed (pair sampling only; default 0)")
+    default = inspect.signature(localize2d).parameters["n_hypotheses"].default
+    p.add_argument("--hypotheses", type=int_option(1, MAX_HYPOTHESES), default=None, metavar="H",
+                   help=f"observation pairs: all are enumerated while they are at most H, "
+                        f"beyond H are sampled; every candidate pose they give is used "
+                        f"(default {default}); at most {MAX_HYPOTHESES}, and hypotheses x "
+                        f"detections at most {MAX_WORK:.0e}")
     p.set_defaults(run=_localize2d)

@@ -2,8 +2,11 @@
 
 from __future__ import annotations
 
+import inspect
+
 import numpy as np
 
+from ..cli import MAX_HYPOTHESES, MAX_WORK, check_budget
 from ..io import int_option
 from ..registry import strategy_names
 from ..spaces.landmarks3d import Landmark3DSpace
@@ -35,8 +38,13 @@ def _localize3d(args) -> dict:
         raise ValueError(f"{args.observations}: no detections (an empty list)")
     ids = [space.type_id(t) for t in obs_types]
     data = np.c_[np.asarray(ids, dtype=float), obs_xyz].reshape(-1, 4)
+    budget = {}
+    if args.hypotheses is not None:  # open3d: its iteration cap
+        check_budget(args.method, args.hypotheses, len(data))
+        budget = {"n_hypotheses": args.hypotheses, "open3d_iterations": args.hypotheses}
     args.progress.stage(f"localizing ({args.method})")
-    res = localize3d(data, landmarks, method=args.method, space=space, rng=args.seed)
+    res = localize3d(data, landmarks, method=args.method, space=space, rng=args.seed,
+                     **budget)
     diag = res.diagnostics  # candidate poses, or the pairs handed to Open3D
     return {**res.to_dict(), "candidates": int(diag.get("hypotheses") or diag.get("candidates", 0)),
             "map": str(args.map)}
@@ -64,4 +72,11 @@ def register(sub) -> None:
                    help="consensus strategy (default clap; open3d: Open3D's RANSAC)")
     p.add_argument("--seed", type=int_option(), default=0,
                    help="random seed (triplet sampling; default 0)")
+    defaults = inspect.signature(localize3d).parameters
+    p.add_argument("--hypotheses", type=int_option(1, MAX_HYPOTHESES), default=None, metavar="H",
+                   help=f"candidate poses (clap, ransac, randomized_hough: all detection "
+                        f"triplets are enumerated while they are at most H, beyond H are "
+                        f"sampled; default {defaults['n_hypotheses'].default}) or the iteration "
+                        f"cap (open3d; default {defaults['open3d_iterations'].default}); at most "
+                        f"{MAX_HYPOTHESES}, and hypotheses x detections at most {MAX_WORK:.0e}")
     p.set_defaults(run=_localize3d)
