@@ -25,7 +25,7 @@ __all__ = ["SINGULAR_RATIO", "dlt", "four_point_homography", "normalise_points",
            "symmetric_transfer_error", "transfer", "transfer_error"]
 
 
-#: Minimal-sample homographies with |det H| / prod_i |row_i| at or below this are rejected.
+#: Minimal-sample homographies with ``|det H| / prod_i |row_i|`` at or below this are rejected.
 SINGULAR_RATIO = 1e-10
 
 
