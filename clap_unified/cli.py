@@ -10,7 +10,8 @@ interrupted, 74 when the result cannot be written, 141 when a pipe closed standa
   the command's limits); one line on standard error names the argument and the reason,
   nothing is printed on standard output and no output file is written.
 
-Absurd sizes are refused before any work (:data:`MAX_HYPOTHESES`, :data:`MAX_WORK`; the
+Absurd sizes are refused before any work (:data:`~clap_unified.io.MAX_HYPOTHESES`,
+:data:`~clap_unified.io.MAX_WORK`; the
 readers' limits are in
 :mod:`clap_unified.io`). While a command runs, a progress bar on standard error names its
 stage; it is off with ``--quiet`` or when standard error is not a terminal.
@@ -31,13 +32,21 @@ import textwrap
 
 from . import __version__
 from .fitting import fit_line
-from .io import MAX_ROWS, float_option, int_option, read_points_csv
+from .io import (
+    MAX_HYPOTHESES,
+    MAX_ROWS,
+    MAX_WORK,
+    check_budget,
+    float_option,
+    int_option,
+    read_points_csv,
+)
 from .registry import strategy_names
 from .result import ConsensusResult
 from .spaces import LineSpace
 
 __all__ = ["COMMANDS", "EXIT_BAD_INPUT", "EXIT_FAILED", "EXIT_OK", "EXIT_STATUS", "OUTPUT",
-           "MAX_HYPOTHESES", "MAX_WORK", "build_parser", "main"]
+           "build_parser", "main"]
 
 #: Modules that add commands (each has ``register(subparsers)``).
 COMMANDS = [
@@ -80,11 +89,6 @@ error is not a terminal)."""
 #: ``output:`` epilog says what it is).
 _OWN_OUTPUT = {"clap-unified reproduce"}
 
-#: ``--hypotheses`` at most (CLAP on lines: 1000000 take about 5 s and 1 GB).
-MAX_HYPOTHESES = 1_000_000
-#: ``--hypotheses`` times the number of data at most (RANSAC scores every hypothesis on every
-#: datum: 2 * 10**8 take about 3 s).
-MAX_WORK = 200_000_000
 
 
 class _Parser(argparse.ArgumentParser):
@@ -129,20 +133,6 @@ class _Progress:
             self._stop.set()
             self._bar.close()
             self._bar = None
-
-
-def check_budget(method: str, n_hypotheses: int, n_data: int) -> None:
-    """Refuse a budget that would run for minutes or exhaust memory, before any work.
-
-    Raises
-    ------
-    ValueError
-        Naming ``--hypotheses``, the limit and why.
-    """
-    if n_hypotheses * n_data > MAX_WORK:
-        raise ValueError(f"--hypotheses: {n_hypotheses} hypotheses on {n_data} data exceed "
-                         f"the limit of {MAX_WORK:.0e} hypothesis-datum pairs; use fewer "
-                         "hypotheses or fewer data")
 
 
 def register(sub) -> None:

@@ -16,7 +16,8 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["MAX_FILE_BYTES", "MAX_ITEMS", "MAX_MAGNITUDE", "MAX_ROWS", "check_input_file",
+__all__ = ["MAX_FILE_BYTES", "MAX_HYPOTHESES", "MAX_ITEMS", "MAX_MAGNITUDE", "MAX_ROWS",
+           "MAX_WORK", "check_budget", "check_input_file",
            "float_option", "int_option", "read_json_list", "read_points_csv",
            "read_typed_points"]
 
@@ -327,3 +328,24 @@ def read_typed_points(path, coords: str = "xy", *, what: str = "", max_items: in
         kinds.append(kind)
         rows.append(row)
     return kinds, np.array(rows, dtype=float).reshape(-1, len(coords))
+
+
+#: ``--hypotheses`` at most (CLAP on lines: 1000000 take about 5 s and 1 GB).
+MAX_HYPOTHESES = 1_000_000
+#: ``--hypotheses`` times the number of data at most (RANSAC scores every hypothesis on every
+#: datum: 2 * 10**8 take about 3 s).
+MAX_WORK = 200_000_000
+
+
+def check_budget(method: str, n_hypotheses: int, n_data: int) -> None:
+    """Refuse a budget that would run for minutes or exhaust memory, before any work.
+
+    Raises
+    ------
+    ValueError
+        Naming ``--hypotheses``, the limit and why.
+    """
+    if n_hypotheses * n_data > MAX_WORK:
+        raise ValueError(f"--hypotheses: {n_hypotheses} hypotheses on {n_data} data exceed "
+                         f"the limit of {MAX_WORK:.0e} hypothesis-datum pairs; use fewer "
+                         "hypotheses or fewer data")

@@ -23,9 +23,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .cli import EXIT_STATUS, MAX_HYPOTHESES, _Parser
+from .cli import EXIT_STATUS, _Parser
 from .imaging.segment_matches import SEGMENT_DEFAULTS, segment_matches
-from .io import MAX_ROWS, float_option, int_option, read_points_csv
+from .io import MAX_HYPOTHESES, MAX_ROWS, float_option, int_option, read_points_csv
 from .registry import segmenter_names
 from .result import SegmentationResult
 from .segmenting import segment

@@ -6,8 +6,9 @@ import json
 import numpy as np
 import pytest
 
-from clap_unified.cli import MAX_HYPOTHESES, MAX_WORK, build_parser, main
+from clap_unified.cli import build_parser, main
 from clap_unified.imaging.estimate import PROTOCOLS, estimate_homography
+from clap_unified.io import MAX_HYPOTHESES, MAX_WORK
 
 #: The issue's case: 10 % inliers among 1500 matches in a 640 x 480 image.
 N_INLIERS, N_OUTLIERS = 150, 1350

@@ -2,7 +2,7 @@
 
 Bad input (a missing or unreadable image or CSV, a folder, an image over
 :data:`MAX_IMAGE_PIXELS`, an unwritable output, ``--hypotheses`` times the matches over
-:data:`~clap_unified.cli.MAX_WORK`) raises ``ValueError``: the command prints
+:data:`~clap_unified.io.MAX_WORK`) raises ``ValueError``: the command prints
 one line and exits with status 2. A failed estimate (fewer than 8 matches, no consensus,
 fewer than 8 matches agreeing with it, a homography that gives no plausible panorama) is a
 result with ``success: false`` and a ``reason``: status 1.
@@ -18,8 +18,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..cli import MAX_HYPOTHESES, MAX_WORK, check_budget
-from ..io import float_option, int_option, read_points_csv
+from ..io import MAX_HYPOTHESES, MAX_WORK, check_budget, float_option, int_option, read_points_csv
 from ..result import ConsensusResult
 from ..spaces.homography import HomographySpace
 from .estimate import MIN_MATCHES, PROTOCOLS, estimate_homography, method_names

@@ -7,8 +7,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..cli import MAX_HYPOTHESES, MAX_WORK, check_budget
-from ..io import int_option, read_typed_points
+from ..io import MAX_HYPOTHESES, MAX_WORK, check_budget, int_option, read_typed_points
 from ..maps.field import FIELD_DIMENSIONS, LANDMARK_TYPES, load_field
 from ..registry import strategy_names
 from ..spaces.landmarks2d import Landmark2DSpace

@@ -6,8 +6,7 @@ import inspect
 
 import numpy as np
 
-from ..cli import MAX_HYPOTHESES, MAX_WORK, check_budget
-from ..io import int_option
+from ..io import MAX_HYPOTHESES, MAX_WORK, check_budget, int_option
 from ..registry import strategy_names
 from ..spaces.landmarks3d import Landmark3DSpace
 from .localize3d import localize3d
