@@ -21,7 +21,7 @@ from .plots import (
     plot_points_and_lines,
 )
 from .scenes import LineInput, LineScene, LineTruth, line_errors, line_scene
-from .style import METHOD_STYLE, book_style, format_table
+from .style import METHOD_STYLE, book_style, format_table, markdown_table
 
 __all__ = [
     "LANDMARK_STYLE",
@@ -34,6 +34,7 @@ __all__ = [
     "draw_field",
     "draw_pose",
     "format_table",
+    "markdown_table",
     "line_errors",
     "line_scene",
     "plot_accumulator",

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["METHOD_STYLE", "book_style", "format_table"]
+__all__ = ["METHOD_STYLE", "book_style", "format_table", "markdown_table"]
 
 # Okabe-Ito colours: distinguishable with the common colour-vision deficiencies.
 _PALETTE = ["#0072B2", "#D55E00", "#009E73", "#CC79A7", "#E69F00", "#56B4E9", "#000000"]
@@ -102,3 +102,39 @@ def format_table(rows, columns) -> str:
         return " ".join(out).rstrip()
 
     return "\n".join([line([h for h, _ in columns])] + [line(r) for r in cells])
+
+
+def markdown_table(rows, columns) -> str:
+    """The same table as :func:`format_table`, as Markdown (rendered to HTML in the book).
+
+    A Markdown table wraps to the text column where a printed one scrolls; in a notebook,
+    show it with ``IPython.display.Markdown(markdown_table(...))``.
+
+    Parameters
+    ----------
+    rows : sequence of sequences
+        One row per line, values in the order of ``columns``.
+    columns : sequence of (str, str)
+        ``(header, format_spec)`` pairs; a spec starting with ``<`` (or ``"s"``) aligns the
+        column left, any other right.
+
+    Returns
+    -------
+    str
+
+    Examples
+    --------
+    >>> print(markdown_table([["clap", 0.01234, 95], ["ransac", 1.5, 88]],
+    ...                      [("method", "<8"), ("angle [deg]", ".3f"), ("inliers", "d")]))
+    | method | angle [deg] | inliers |
+    |:--|--:|--:|
+    | clap | 0.012 | 95 |
+    | ransac | 1.500 | 88 |
+    """
+    columns = list(columns)
+    cells = [[format(v, spec).strip() for v, (_, spec) in zip(row, columns, strict=True)]
+             for row in rows]
+    align = [":--" if spec.startswith("<") or spec == "s" else "--:" for _, spec in columns]
+    lines = ["| " + " | ".join(h for h, _ in columns) + " |", "|" + "|".join(align) + "|"]
+    lines += ["| " + " | ".join(c.replace("|", "\\|") for c in r) + " |" for r in cells]
+    return "\n".join(lines)
