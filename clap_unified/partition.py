@@ -18,6 +18,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from .coherence import coherent_labels
+
 __all__ = ["assign_labels", "refine_hypotheses", "refit_partition", "select_by_label_cost",
            "select_models"]
 
@@ -188,7 +190,7 @@ def refine_hypotheses(space, models, data, threshold: float, *, rounds: int = 1)
 
 
 def refit_partition(space, models, data, threshold: float, min_support: int, *,
-                    rounds: int = 5):
+                    rounds: int = 5, coherence: float = 0.0, edges=None):
     """Assign and refit every model on its own data until the labels are stable.
 
     Each round assigns every datum to its nearest model within the
@@ -197,6 +199,22 @@ def refit_partition(space, models, data, threshold: float, min_support: int, *,
     each model on its data (``space.refit``; a degenerate refit keeps the
     model). Stops when the labels no longer change, or after ``rounds``.
 
+    With ``coherence > 0``, a second pass starts from that partition and
+    labels by :func:`~clap_unified.coherence.coherent_labels` instead (a graph
+    cut that also asks neighbours, ``edges``, to share a model), refitting and
+    dropping the same way (PEARL's alternation of labelling and refitting,
+    without its label cost).
+
+    Parameters
+    ----------
+    space, models, data, threshold, min_support
+    rounds : int
+    coherence : float
+        Cost of two neighbours on different models, in units of an outlier's cost.
+    edges : ndarray of int, shape (E, 2), optional
+        The data's neighbour graph (:func:`~clap_unified.coherence.neighbour_graph`);
+        required when ``coherence > 0``.
+
     Returns
     -------
     models : ndarray of shape (K',) + model_shape
@@ -204,26 +222,48 @@ def refit_partition(space, models, data, threshold: float, min_support: int, *,
     kept : ndarray of int
         Indices into the given ``models`` of the models returned.
     """
+    if coherence and edges is None:
+        raise ValueError("edges: the neighbour graph is required when coherence > 0")
+
+    def nearest(models, labels=None):
+        return assign_labels(space, models, data, threshold)
+
+    def coherent(models, labels=None):
+        if len(models) == 0:
+            return np.full(len(data), -1, dtype=np.intp)
+        if labels is None or labels.max(initial=-1) >= len(models):
+            labels = assign_labels(space, models, data, threshold)
+        return coherent_labels(space, models, data, threshold, edges, coherence, labels)
+
+    models, labels, kept = _refit_loop(space, models, data, min_support, rounds, nearest)
+    if coherence and len(models):
+        models, labels, again = _refit_loop(space, models, data, min_support, rounds, coherent,
+                                            labels)
+        kept = kept[again]
+    return models, labels, kept
+
+
+def _refit_loop(space, models, data, min_support, rounds, label, labels=None):
+    """Label, drop the weak, refit each model on its data; until the labels are stable."""
     models = np.array(models, dtype=float, copy=True)
     kept = np.arange(len(models))
-    labels = assign_labels(space, models, data, threshold)
+    labels = label(models, labels)
     for _ in range(rounds):
-        models, labels, kept = _drop_weak(space, models, labels, kept, data, threshold,
-                                          min_support)
+        models, labels, kept = _drop_weak(models, labels, kept, min_support, label)
         for k in range(len(models)):
             own = labels == k
             if np.count_nonzero(own) >= space.min_samples:
                 new = space.refit(data[own], initial=models[k])
                 if new is not None and np.all(np.isfinite(new)):
                     models[k] = new
-        new_labels = assign_labels(space, models, data, threshold)
+        new_labels = label(models, labels)
         if np.array_equal(new_labels, labels):
             break
         labels = new_labels
-    return _drop_weak(space, models, labels, kept, data, threshold, min_support)
+    return _drop_weak(models, labels, kept, min_support, label)
 
 
-def _drop_weak(space, models, labels, kept, data, threshold, min_support):
+def _drop_weak(models, labels, kept, min_support, label):
     """Drop the models with fewer than ``min_support`` data, the weakest first."""
     while len(models):
         support = np.bincount(labels[labels >= 0], minlength=len(models))
@@ -232,5 +272,6 @@ def _drop_weak(space, models, labels, kept, data, threshold, min_support):
             break
         models = np.delete(models, weakest, axis=0)
         kept = np.delete(kept, weakest)
-        labels = assign_labels(space, models, data, threshold)
+        labels = label(models, np.where(labels > weakest, labels - 1,
+                                        np.where(labels == weakest, -1, labels)))
     return models, labels, kept

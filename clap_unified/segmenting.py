@@ -10,8 +10,10 @@ Data flow of :func:`segment`, sharing :func:`~clap_unified.fitting.fit`'s parts:
 
 Every segmenter gets the same hypotheses (with the same seed), the same
 threshold, the same minimum support and the same finish: each datum is given
-to its nearest model within the threshold, each model is refitted on its own
-data, and a model left with fewer than ``min_support`` data is dropped
+to its nearest model within the threshold (or, with ``coherence > 0``, to the
+model its neighbours share, by a graph cut: :mod:`clap_unified.coherence`),
+each model is refitted on its own data, and a model left with fewer than
+``min_support`` data is dropped
 (:func:`~clap_unified.partition.refit_partition`); ``refine=False`` skips the
 refit and keeps the segmenter's own labels.
 """
@@ -23,7 +25,8 @@ import time
 
 import numpy as np
 
-from ._validation import check_int
+from ._validation import check_int, check_positive
+from .coherence import neighbour_graph
 from .fitting import _own_options, check_problem, draw_hypotheses
 from .partition import assign_labels, refit_partition
 from .registry import get_segmenter
@@ -49,6 +52,7 @@ def default_min_support(space, n_data: int) -> int:
 def segment(space, data, method: str = "clap", *, n_hypotheses: int = 2000,
             threshold: float | None = None, rng=None, hypotheses: HypothesisSet | None = None,
             min_support: int | None = None, refine: bool = True, sampling: dict | None = None,
+            coherence: float = 0.0, coherence_neighbours: int = 8,
             **options) -> SegmentationResult:
     """Every model of ``space`` that ``data`` holds, and which datum belongs to which.
 
@@ -81,6 +85,13 @@ def segment(space, data, method: str = "clap", *, n_hypotheses: int = 2000,
         ``min_support`` (:func:`~clap_unified.partition.refit_partition`).
     sampling : dict, optional
         Space-specific options of hypothesis generation.
+    coherence : float
+        Spatial coherence of the finish: the cost of two neighbouring data on
+        different models, in units of an outlier's cost (0: each datum to its
+        nearest model; :mod:`clap_unified.coherence`). The same for every
+        segmenter.
+    coherence_neighbours : int
+        Each datum's neighbours in the coherence graph (nearest data rows).
     **options
         The segmenter's own options.
 
@@ -117,6 +128,8 @@ def segment(space, data, method: str = "clap", *, n_hypotheses: int = 2000,
     if min_support is None:
         min_support = default_min_support(space, n)
     min_support = check_int(min_support, "min_support", minimum=space.min_samples)
+    coherence = check_positive(coherence, "coherence", allow_zero=True)
+    coherence_neighbours = check_int(coherence_neighbours, "coherence_neighbours", minimum=1)
     hypotheses, g, gen = draw_hypotheses(
         problem, n_hypotheses, rng, hypotheses=hypotheses,
         sampling=sampling if segmenter.uses_hypotheses else None,
@@ -129,14 +142,15 @@ def segment(space, data, method: str = "clap", *, n_hypotheses: int = 2000,
     scores = np.asarray(found.scores, dtype=float).reshape(-1)
     labels = found.labels
     if refine and len(models):
+        edges = neighbour_graph(problem.data, coherence_neighbours) if coherence else None
         models, labels, kept = refit_partition(space, models, problem.data, problem.threshold,
-                                               min_support)
+                                               min_support, coherence=coherence, edges=edges)
         scores = scores[kept]
     elif labels is None:
         labels = assign_labels(space, models, problem.data, problem.threshold)
     labels = np.asarray(labels, dtype=np.intp)
     diag = {**found.diagnostics, "hypotheses": 0 if hypotheses is None else len(hypotheses),
-            "min_support": min_support, "generation_seconds": gen,
+            "min_support": min_support, "coherence": coherence, "generation_seconds": gen,
             "seconds": time.perf_counter() - t0}
     if len(models) == 0:
         reason = (found.reason if found.reason != "ok" else
@@ -150,7 +164,8 @@ def segment(space, data, method: str = "clap", *, n_hypotheses: int = 2000,
 def compare_segmenters(space, data, *, methods=("randomized_hough", "ransac", "t_linkage", "clap"),
                        n_hypotheses: int = 2000, threshold: float | None = None, rng=None,
                        min_support: int | None = None, options: dict | None = None,
-                       sampling: dict | None = None) -> dict[str, SegmentationResult]:
+                       sampling: dict | None = None, coherence: float = 0.0,
+                       coherence_neighbours: int = 8) -> dict[str, SegmentationResult]:
     """Several segmenters on the *same* hypotheses, drawn once: the multi-model ``compare``.
 
     Parameters
@@ -160,7 +175,7 @@ def compare_segmenters(space, data, *, methods=("randomized_hough", "ransac", "t
     methods : sequence of str
         Registered segmenters that apply to ``space``; those that draw their
         own samples (sequential RANSAC, the peers) draw them from ``rng``.
-    n_hypotheses, threshold, rng, min_support, sampling
+    n_hypotheses, threshold, rng, min_support, sampling, coherence, coherence_neighbours
         As :func:`segment`, the same for every method.
     options : dict, optional
         Per-method options, e.g. ``{"clap": {"label_cost": 2.0}}``.
@@ -201,6 +216,7 @@ def compare_segmenters(space, data, *, methods=("randomized_hough", "ransac", "t
         res = segment(space, problem.data, s.name, n_hypotheses=n_hypotheses,
                       threshold=problem.threshold, rng=rng, min_support=min_support,
                       hypotheses=hypotheses if s.uses_hypotheses else None,
+                      coherence=coherence, coherence_neighbours=coherence_neighbours,
                       **options.get(s.name, {}))
         out[s.name] = res.replace(diagnostics={"generation_seconds": gen})
     return out
@@ -216,4 +232,4 @@ def _check_segmenter_options(segmenter, options) -> None:
             raise ValueError(f"{key}: not an option of the {segmenter.name!r} segmenter "
                              f"(its options: {', '.join(own) or 'none'}; segment's own: "
                              f"n_hypotheses, threshold, rng, hypotheses, min_support, "
-                             f"refine, sampling)")
+                             f"refine, sampling, coherence, coherence_neighbours)")

@@ -34,8 +34,9 @@ FLOORS = [
     ["geometry"],
     # Maps the spaces localize against (the RoboCup field).
     ["maps"],
-    # Inliers and refitting on a space's protocol; spaces.base builds on it.
-    ["refine", "partition"],
+    # Inliers and refitting on a space's protocol (one model, several models, spatial
+    # coherence); spaces.base builds on it.
+    ["refine", "partition", "coherence"],
     # Hypothesis spaces: model families, minimal solvers, residuals.
     ["spaces"],
     # The result types every strategy returns.

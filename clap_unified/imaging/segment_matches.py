@@ -28,17 +28,23 @@ SPACES = {"homography": HomographySpace.for_data, "fundamental": FundamentalSpac
 #: Defaults of :func:`segment_matches`, per kind: the inlier threshold (pixels,
 #: the space's residual), the hypotheses drawn and how (local samples: a match
 #: and others among its 20 nearest, for every segmenter that uses the shared
-#: hypotheses; sequential RANSAC draws its own the same way). Chosen on
-#: AdelaideRMF by the benchmark ``bench/bench_adelaidermf.py``.
+#: hypotheses; sequential RANSAC draws its own the same way) and the spatial
+#: coherence of the common finish (two matches among each other's 8 nearest, in
+#: the four coordinates, pay 0.05 of an outlier's cost to lie on different
+#: models; :mod:`clap_unified.coherence`). Chosen on AdelaideRMF by the
+#: benchmark ``bench/bench_adelaidermf.py``.
 SEGMENT_DEFAULTS = {
-    "homography": {"threshold": 5.0, "n_hypotheses": 1000, "neighbours": 20},
-    "fundamental": {"threshold": 2.0, "n_hypotheses": 1000, "neighbours": 20},
+    "homography": {"threshold": 5.0, "n_hypotheses": 1000, "neighbours": 20,
+                   "coherence": 0.05, "coherence_neighbours": 8},
+    "fundamental": {"threshold": 2.0, "n_hypotheses": 1000, "neighbours": 20,
+                    "coherence": 0.05, "coherence_neighbours": 8},
 }
 
 
 def segment_matches(matches, kind: str = "homography", method: str = "clap", *,
                     threshold: float | None = None, rng=None, n_hypotheses: int | None = None,
-                    neighbours: int | None = None, **options):
+                    neighbours: int | None = None, coherence: float | None = None,
+                    **options):
     """The planes (or motions) in matches ``(x1, y1, x2, y2)``, and which match is on which.
 
     Parameters
@@ -49,9 +55,9 @@ def segment_matches(matches, kind: str = "homography", method: str = "clap", *,
         (fundamental matrix).
     method : str
         A segmenter (:func:`~clap_unified.registry.segmenter_names`).
-    threshold, n_hypotheses, neighbours : optional
+    threshold, n_hypotheses, neighbours, coherence : optional
         Default :data:`SEGMENT_DEFAULTS`; ``neighbours=0`` draws uniform
-        samples.
+        samples, ``coherence=0`` gives each match to its nearest model.
     rng : None, int or numpy.random.Generator
     **options
         Passed to :func:`~clap_unified.segment` (``min_support``, the
@@ -75,6 +81,8 @@ def segment_matches(matches, kind: str = "homography", method: str = "clap", *,
     threshold = defaults["threshold"] if threshold is None else threshold
     n_hypotheses = defaults["n_hypotheses"] if n_hypotheses is None else n_hypotheses
     neighbours = defaults["neighbours"] if neighbours is None else neighbours
+    coherence = defaults["coherence"] if coherence is None else coherence
+    options.setdefault("coherence_neighbours", defaults["coherence_neighbours"])
     local = {"neighbours": int(neighbours)} if neighbours else None
     space = SPACES[kind](matches)
     from ..registry import get_segmenter
@@ -85,7 +93,7 @@ def segment_matches(matches, kind: str = "homography", method: str = "clap", *,
     elif method == "ransac" and local:
         options.setdefault("neighbours", local["neighbours"])
     return segment(space, matches, method, threshold=threshold, rng=rng,
-                   n_hypotheses=n_hypotheses, **options)
+                   n_hypotheses=n_hypotheses, coherence=coherence, **options)
 
 
 def evaluate_adelaidermf(kind: str = "homography", methods=("clap",), *, thresholds=None,

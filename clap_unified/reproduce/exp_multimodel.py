@@ -10,7 +10,8 @@ the method.
 
 Methods, all through :func:`~clap_unified.segment` with the same threshold,
 minimum support and finish (each match to its nearest model, each model
-refitted on its matches):
+refitted on its matches; then the same with spatial coherence, a graph cut
+that asks neighbouring matches to share a model: :mod:`clap_unified.coherence`):
 
 * ``clap_paper``: the paper's CLAP read as a multi-model method: uniform
   minimal samples, density clusters of the raw hypotheses (its automatic
@@ -57,6 +58,7 @@ ABLATION = {
     "no hypothesis refinement": {"refine_rounds": 0},
     "density clusters (auto bandwidth)": {"bandwidth": "auto"},
     "cover instead of label cost": {"select": "cover"},
+    "no spatial coherence": {"coherence": 0.0},
     "no final refit": {"refine": False},
 }
 
