@@ -70,7 +70,7 @@ class SegmentKind:
     columns : int
         Numbers per CSV row.
     run : callable
-        ``run(kind, data, method, threshold, n_hypotheses, seed, min_support) ->
+        ``run(kind, data, method, threshold, n_hypotheses, seed, min_support, coherence) ->
         SegmentationResult``; ``None`` values take the kind's defaults.
     row : str
         The row, for the help (``"x,y"``).
@@ -99,17 +99,19 @@ class SegmentKind:
 
 def _in_space(for_data: Callable) -> Callable:
     """A kind's ``run`` calling :func:`~clap_unified.segment` in ``for_data(data)``."""
-    def run(kind, data, method, threshold, n_hypotheses, seed, min_support):
+    def run(kind, data, method, threshold, n_hypotheses, seed, min_support, coherence=None):
         return segment(for_data(data), data, method, n_hypotheses=n_hypotheses,
-                       threshold=threshold, rng=seed, min_support=min_support)
+                       threshold=threshold, rng=seed, min_support=min_support,
+                       coherence=0.0 if coherence is None else coherence)
     return run
 
 
-def _matches(kind, data, method, threshold, n_hypotheses, seed, min_support):
+def _matches(kind, data, method, threshold, n_hypotheses, seed, min_support, coherence=None):
     """A kind's ``run`` for matches: :func:`~clap_unified.imaging.segment_matches.segment_matches`
     (its defaults are :data:`~clap_unified.imaging.segment_matches.SEGMENT_DEFAULTS`)."""
     return segment_matches(data, kind, method, threshold=threshold, rng=seed,
-                           n_hypotheses=n_hypotheses, min_support=min_support)
+                           n_hypotheses=n_hypotheses, min_support=min_support,
+                           coherence=coherence)
 
 
 #: The kinds of ``segment``: name -> :class:`SegmentKind`.
@@ -189,6 +191,11 @@ def _add_kind(kinds, name: str, kind: SegmentKind) -> None:
                    help=f"rows a model must explain to be kept (at least "
                         f"{kind.space().min_samples}, one minimal sample; default the larger "
                         "of 10, two minimal samples and 2%% of the rows)")
+    default = (SEGMENT_DEFAULTS[name]["coherence"] if name in SEGMENT_DEFAULTS else 0.0)
+    p.add_argument("--coherence", type=float_option(0.0, closed=True), default=None, metavar="W",
+                   help="spatial coherence: the cost of two neighbouring rows on different "
+                        "models, in units of an outlier's cost (0: each row to its nearest "
+                        f"model; default {default:g})")
     p.set_defaults(run=segment_command, segment_kind=name)
 
 
@@ -221,7 +228,7 @@ def segment_command(args) -> dict:
         return _nothing(args.method, reason, len(data), space, args.threshold).to_dict()
     args.progress.stage(f"segmenting ({args.method}, {n_hypotheses} hypotheses)")
     return kind.run(name, data, args.method, args.threshold, n_hypotheses, args.seed,
-                    args.min_support).to_dict()
+                    args.min_support, args.coherence).to_dict()
 
 
 def _nothing(method: str, reason: str, n: int, space, threshold) -> SegmentationResult:

@@ -89,7 +89,9 @@ def segment(space, data, method: str = "clap", *, n_hypotheses: int = 2000,
         Spatial coherence of the finish: the cost of two neighbouring data on
         different models, in units of an outlier's cost (0: each datum to its
         nearest model; :mod:`clap_unified.coherence`). The same for every
-        segmenter.
+        segmenter. Structures that interleave in space (their data are each
+        other's neighbours) pay for every such pair: a large weight there
+        makes every datum an outlier.
     coherence_neighbours : int
         Each datum's neighbours in the coherence graph (nearest data rows).
     **options

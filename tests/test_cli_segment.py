@@ -138,6 +138,8 @@ def test_fewer_rows_than_a_sample_is_a_failed_estimate(tmp_path, capsys):
     ("1,2\n3,4\n", ["--min-support", "1"], "--min-support: expected at least 2"),
     ("1,2\n3,4\n", ["--hypotheses", "0"], "argument --hypotheses"),
     ("1,2\n3,4\n", ["--seed", "-1"], "argument --seed"),
+    ("1,2\n3,4\n", ["--coherence", "-0.1"], "argument --coherence: expected a finite number"),
+    ("1,2\n3,4\n", ["--coherence", "nan"], "argument --coherence"),
 ])
 def test_bad_input_exits_2_with_one_line(tmp_path, capsys, content, argv, needle):
     f = tmp_path / "bad.csv"
@@ -221,6 +223,25 @@ def test_homography_matches_the_library(planes_csv, capsys):
 
     code, out, _ = run(["segment", "homography", planes_csv, "--seed", "3"], capsys)
     res = segment_matches(np.loadtxt(planes_csv, delimiter=","), rng=3)
+    assert code == 0 and json.loads(out)["labels"] == res.labels.tolist()
+
+
+def test_coherence_option_is_the_library_s(planes_csv, lines_csv, capsys):
+    """--coherence W is segment's coherence: 0 gives the nearest-model finish, the default
+    for matches is SEGMENT_DEFAULTS', for points 0."""
+    from clap_unified import segment
+    from clap_unified.imaging.segment_matches import segment_matches
+
+    data = np.loadtxt(planes_csv, delimiter=",")
+    for argv, w in [([], SEGMENT_DEFAULTS["homography"]["coherence"]), (["--coherence", "0"], 0.0),
+                    (["--coherence", "0.02"], 0.02)]:
+        code, out, _ = run(["segment", "homography", planes_csv, "--seed", "2", *argv], capsys)
+        res = segment_matches(data, rng=2, coherence=w)
+        assert code == 0 and json.loads(out)["labels"] == res.labels.tolist()
+        assert res.diagnostics["coherence"] == w
+    pts = np.loadtxt(lines_csv, delimiter=",", skiprows=1)
+    code, out, _ = run(["segment", "line", lines_csv, "--coherence", "0.2"], capsys)
+    res = segment(LineSpace.for_data(pts, metric="transfer"), pts, "clap", rng=0, coherence=0.2)
     assert code == 0 and json.loads(out)["labels"] == res.labels.tolist()
 
 
