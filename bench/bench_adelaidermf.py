@@ -33,7 +33,8 @@ from clap_unified.imaging.segment_matches import evaluate_adelaidermf, summarise
 def main(argv=None) -> None:
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("--kind", default="homography")
-    p.add_argument("--methods", default="clap,t_linkage,ransac,randomized_hough,magsac")
+    p.add_argument("--methods",
+                   default="clap,t_linkage,ransac,multi_ransac,randomized_hough,magsac")
     p.add_argument("--thresholds", default="3,4,5,7,10")
     p.add_argument("--seeds", type=int, default=5)
     p.add_argument("--per-sequence", action="store_true")

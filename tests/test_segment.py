@@ -16,7 +16,7 @@ from clap_unified.partition import (
 )
 from clap_unified.spaces.homography import HomographySpace
 
-METHODS = ("clap", "ransac", "t_linkage", "randomized_hough")
+METHODS = ("clap", "ransac", "multi_ransac", "t_linkage", "randomized_hough")
 
 
 def two_lines(seed=0, n1=80, n2=60, clutter=60):
@@ -180,7 +180,8 @@ def _plane_matches(rng, n=100):
 
 
 @pytest.mark.parametrize("kind", ["homography", "fundamental"])
-@pytest.mark.parametrize("method", ["clap", "ransac", "t_linkage", "randomized_hough", "magsac"])
+@pytest.mark.parametrize("method", ["clap", "ransac", "multi_ransac", "t_linkage",
+                                    "randomized_hough", "magsac"])
 def test_bad_matches_give_an_error_or_no_model(kind, method):
     """Issue 26's bad input: a clear error naming the argument, or no model and a reason."""
     import warnings

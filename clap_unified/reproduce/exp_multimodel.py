@@ -19,6 +19,8 @@ that asks neighbouring matches to share a model: :mod:`clap_unified.coherence`):
 * ``clap``: the library's multi-model CLAP (local samples, hypotheses refined
   on their inliers, clusters of converged hypotheses, a label cost);
 * ``ransac``: sequential RANSAC with the same local samples each round;
+* ``multi_ransac``: MultiRANSAC (Zuliani et al., 2005), a set of at most six
+  models fused with each batch of the shared hypotheses;
 * ``t_linkage``: T-Linkage on the same hypotheses as ``clap``;
 * ``magsac``: OpenCV's MAGSAC++ in a remove-inliers loop;
 * ``randomized_hough``: the accumulator's peaks (in ``bench/bench_adelaidermf.py``
@@ -47,6 +49,7 @@ METHODS = {
                             "select": "cover"}),
     "clap": ("clap", {}),
     "ransac": ("ransac", {}),
+    "multi_ransac": ("multi_ransac", {}),
     "t_linkage": ("t_linkage", {}),
     "magsac": ("magsac", {}),
     "randomized_hough": ("randomized_hough", {}),
@@ -180,11 +183,12 @@ def run_multimodel(params: dict, seed: int) -> dict:
 
 experiment("multimodel_adelaidermf",
            "Several planes: multi-model fitting on AdelaideRMF",
-           quick={"methods": ["clap_paper", "clap", "ransac", "t_linkage", "magsac"],
+           quick={"methods": ["clap_paper", "clap", "ransac", "multi_ransac", "t_linkage",
+                              "magsac"],
                   "thresholds": [5.0], "seeds": 1, "fundamental_methods": ["clap", "magsac"],
                   "fundamental_thresholds": [2.0]},
            full={"methods": [m for m in METHODS if m != "randomized_hough"],
-                 "thresholds": [4.0, 5.0, 7.0, 10.0], "seeds": 3,
+                 "thresholds": [4.0, 5.0, 7.0, 10.0], "seeds": 5,
                  "fundamental_methods": ["clap", "ransac", "t_linkage", "magsac"],
                  "fundamental_thresholds": [1.0, 2.0, 4.0]},
-           datasets=("adelaidermf",), expected_seconds=(15.0, 150.0), version=1)(run_multimodel)
+           datasets=("adelaidermf",), expected_seconds=(20.0, 300.0), version=2)(run_multimodel)
