@@ -30,7 +30,9 @@ from .registry import (
 from .result import Cluster, Consensus, ConsensusResult, Segmentation, SegmentationResult
 from .segmenting import compare_segmenters, segment
 from .spaces import (
+    CircleSpace,
     FundamentalSpace,
+    HomographySpace,
     HypothesisSet,
     HypothesisSpace,
     LineSpace,
@@ -47,10 +49,12 @@ load_plugins()
 __version__ = "0.1.0"
 
 __all__ = [
+    "CircleSpace",
     "Cluster",
     "Consensus",
     "ConsensusResult",
     "FundamentalSpace",
+    "HomographySpace",
     "HypothesisSet",
     "HypothesisSpace",
     "LineSpace",
