@@ -35,6 +35,7 @@ from .spaces import (
     HomographySpace,
     HypothesisSet,
     HypothesisSpace,
+    LineNDSpace,
     LineSpace,
     generate_hypotheses,
 )
@@ -57,6 +58,7 @@ __all__ = [
     "HomographySpace",
     "HypothesisSet",
     "HypothesisSpace",
+    "LineNDSpace",
     "LineSpace",
     "clap",
     "compare",

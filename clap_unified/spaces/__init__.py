@@ -7,6 +7,7 @@ from .homography import HomographySpace, dlt
 from .hypothesis_set import HypothesisSet
 from .landmarks3d import Landmark3DSpace
 from .lines import LineSpace
+from .lines_nd import LineNDSpace
 from .observations import ObservationSpace
 from .rigid3d import Correspondence3DSpace, kabsch
 from .sampling import enumerate_hypotheses, generate_hypotheses, sample_subsets
@@ -19,6 +20,7 @@ __all__ = [
     "HomographySpace",
     "HypothesisSpace",
     "Landmark3DSpace",
+    "LineNDSpace",
     "LineSpace",
     "ObservationSpace",
     "dlt",
