@@ -37,6 +37,7 @@ from .spaces import (
     HypothesisSpace,
     LineNDSpace,
     LineSpace,
+    SkimageModelSpace,
     generate_hypotheses,
 )
 
@@ -77,6 +78,7 @@ __all__ = [
     "segmenter_names",
     "Segmentation",
     "SegmentationResult",
+    "SkimageModelSpace",
     "Segmenter",
     "get_segmenter",
     "spaces",

@@ -11,6 +11,7 @@ from .lines_nd import LineNDSpace
 from .observations import ObservationSpace
 from .rigid3d import Correspondence3DSpace, kabsch
 from .sampling import enumerate_hypotheses, generate_hypotheses, sample_subsets
+from .skimage_model import SkimageModelSpace
 
 __all__ = [
     "CircleSpace",
@@ -23,6 +24,7 @@ __all__ = [
     "LineNDSpace",
     "LineSpace",
     "ObservationSpace",
+    "SkimageModelSpace",
     "dlt",
     "enumerate_hypotheses",
     "generate_hypotheses",
