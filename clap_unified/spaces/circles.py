@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .._validation import check_points
+from .._validation import check_array, check_points
 from ..geometry.euclidean import Euclidean
 from .base import HypothesisSpace
 
@@ -109,7 +109,7 @@ class CircleSpace(HypothesisSpace):
         >>> CircleSpace.predict([0.0, 0.0, 5.0], [0, np.pi / 2]).round(12).tolist()
         [[5.0, 0.0], [0.0, 5.0]]
         """
-        cx, cy, r = np.asarray(model, dtype=float).reshape(3)
+        cx, cy, r = check_array(model, "model", shape=(3,))
         t = np.asarray(angles, dtype=float)
         return np.stack([cx + r * np.cos(t), cy + r * np.sin(t)], axis=-1)
 

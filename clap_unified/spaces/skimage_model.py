@@ -193,11 +193,13 @@ class SkimageModelSpace(HypothesisSpace):
 
     # -------------------------------------------------------------- the data
     def check_data(self, data) -> np.ndarray:
-        """One ``(N, k)`` array (a 1-D array is one column), or the ``widths`` arrays side by side."""
+        """One ``(N, k)`` array (a 1-D array is one column), or the ``widths`` arrays
+        side by side."""
         if self.widths is not None and isinstance(data, (tuple, list)):
             if len(data) != len(self.widths):
                 raise ValueError(f"data: expected {len(self.widths)} arrays, got {len(data)}")
-            parts = [check_array(d, "data", shape=(None, w)) for d, w in zip(data, self.widths)]
+            parts = [check_array(d, "data", shape=(None, w))
+                     for d, w in zip(data, self.widths, strict=True)]
             if len({len(p) for p in parts}) != 1:
                 raise ValueError(f"data: the arrays differ in length: {[len(p) for p in parts]}")
             arr = np.concatenate(parts, axis=1)
@@ -235,7 +237,8 @@ class SkimageModelSpace(HypothesisSpace):
             model = self.model_class(**self.model_kwargs)
             return model if model.estimate(*args) else None
 
-    def _params(self, model):
+    def params_of(self, model):
+        """The parameter vector of a model object (``None`` when not finite)."""
         p = np.asarray(self._to_params(model), dtype=float).ravel()
         if p.shape != (self.n_params,):
             raise ValueError(f"n_params: a {self.model_class.__name__} has {p.size} parameters, "
@@ -254,7 +257,7 @@ class SkimageModelSpace(HypothesisSpace):
             model = self.estimate(data[sample])
             if model is None or not self._valid(model, args):
                 continue
-            p = self._params(model)
+            p = self.params_of(model)
             if p is not None:
                 models.append(p)
                 owner.append(s)
@@ -278,7 +281,7 @@ class SkimageModelSpace(HypothesisSpace):
         model = self.estimate(data)
         if model is None or not self._valid(model, self.split(data)):
             return None
-        return self._params(model)
+        return self.params_of(model)
 
     def model_to_dict(self, model) -> dict:
         return {"class": self.model_class.__name__,
