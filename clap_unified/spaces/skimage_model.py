@@ -87,7 +87,9 @@ class SkimageModelSpace(HypothesisSpace):
     widths : tuple of int, optional
         The column count of each array when the data are several arrays of one
         length (``(2, 2)`` for ``(src, dst)`` of a 2-D transform); the model's
-        methods then receive them as separate arguments. Default: one array.
+        methods then receive them as separate arguments. Default: one array, of 2
+        columns for ``CircleModel`` and ``EllipseModel``, ``dim`` for
+        ``LineModelND``, any number otherwise.
     dim : int
         The dimension of the points of ``LineModelND`` (its parameter vector
         has ``2 * dim`` entries). Default 2.
@@ -153,12 +155,14 @@ class SkimageModelSpace(HypothesisSpace):
             raise ValueError(f"model_kwargs: expected a dict, got {type(model_kwargs).__name__}")
         self.model_class = model_class
         self.min_samples = check_int(min_samples, "min_samples", minimum=1)
+        dim = check_int(dim, "dim", minimum=1)
+        known = _known(model_class, dim)
+        if widths is None and known is not None:  # the fit models take points (N, 2 or dim)
+            widths = (dim if model_class.__name__ == "LineModelND" else 2,)
         self.widths = None if widths is None else tuple(
             check_int(w, "widths", minimum=1) for w in widths)
         if self.widths is not None and not self.widths:
             raise ValueError("widths: expected at least one array width")
-        dim = check_int(dim, "dim", minimum=1)
-        known = _known(model_class, dim)
         if n_params is None and known is None:
             raise ValueError(f"n_params: the length of a {model_class.__name__} parameter vector "
                              "is not known; pass it")
