@@ -4,7 +4,7 @@ This module is also the library's worked example of a new space
 (``ARCHITECTURE.md``, "How to add a space"): a subclass of
 :class:`~clap_unified.spaces.base.HypothesisSpace` that sets ``min_samples``,
 ``model_shape`` and ``name`` and implements ``manifold``, ``check_data``,
-``solve_minimal``, ``residuals`` and ``refit``, in about fifty lines. Every
+``solve_minimal``, ``residuals`` and ``refit``, in a few dozen lines. Every
 general strategy (CLAP, RANSAC, randomized Hough) then runs on it through
 :func:`~clap_unified.fit` and :func:`~clap_unified.compare`.
 """
@@ -25,7 +25,9 @@ class CircleSpace(HypothesisSpace):
 
     The minimal solver is the circumcircle of three points (collinear samples
     have none); residuals are distances to the circle; the refit is the
-    algebraic (Kasa) least-squares circle. Hypotheses live on the flat
+    algebraic (Kasa) least-squares circle. Both work in the frame of their own
+    points (centred, scaled by a power of two of their spread), so a circle is
+    found alike wherever it is and whatever the unit. Hypotheses live on the flat
     manifold ``Euclidean(3)``: two circles are as far apart as their centres
     and radii, in data units.
 
