@@ -681,7 +681,11 @@ def test_ransac_non_valid_best_model(method):
 
 
 def test_ransac_model_kwargs():
-    """``model_kwargs`` reach ``from_estimate``: polynomial maps of orders 2 to 4."""
+    """``model_kwargs`` reach ``from_estimate``: polynomial maps of orders 2 to 4.
+
+    RANSAC only: the minimal sample is the whole data set (100 of 100), so there is one
+    hypothesis and no consensus among hypotheses for CLAP to find.
+    """
     rng = np.random.RandomState(1152243585)
     x = rng.uniform(-2, 2, 100)
     y = rng.uniform(-2, 2, 100)
