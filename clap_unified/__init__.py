@@ -30,10 +30,14 @@ from .registry import (
 from .result import Cluster, Consensus, ConsensusResult, Segmentation, SegmentationResult
 from .segmenting import compare_segmenters, segment
 from .spaces import (
+    CircleSpace,
     FundamentalSpace,
+    HomographySpace,
     HypothesisSet,
     HypothesisSpace,
+    LineNDSpace,
     LineSpace,
+    SkimageModelSpace,
     generate_hypotheses,
 )
 
@@ -47,12 +51,15 @@ load_plugins()
 __version__ = "0.1.0"
 
 __all__ = [
+    "CircleSpace",
     "Cluster",
     "Consensus",
     "ConsensusResult",
     "FundamentalSpace",
+    "HomographySpace",
     "HypothesisSet",
     "HypothesisSpace",
+    "LineNDSpace",
     "LineSpace",
     "clap",
     "compare",
@@ -71,6 +78,7 @@ __all__ = [
     "segmenter_names",
     "Segmentation",
     "SegmentationResult",
+    "SkimageModelSpace",
     "Segmenter",
     "get_segmenter",
     "spaces",

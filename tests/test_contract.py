@@ -116,12 +116,34 @@ def _observations():
     return ObservationSpace(2), data, None, 0.15, "observations"
 
 
-SPACES = {"line": _line, "line_transfer": _line_transfer, "homography": _homography,
+def _line_nd():
+    from clap_unified.spaces import LineNDSpace
+
+    g = np.random.default_rng(5)
+    t = g.uniform(-5, 5, 150)
+    pts = np.array([1.0, -2.0, 0.5]) + t[:, None] * np.array([0.6, 0.0, 0.8])
+    pts += g.normal(0, 0.01, pts.shape)
+    pts[:50] = g.uniform(-5, 5, (50, 3))
+    return LineNDSpace.for_data(pts), pts, np.zeros((30, 3)), 0.05, "points"
+
+
+def _skimage_circle():
+    from skimage.measure import CircleModel
+
+    from clap_unified.spaces import SkimageModelSpace
+
+    _, pts, degenerate, threshold, _ = _circle()
+    return SkimageModelSpace(CircleModel, 3), pts, degenerate, threshold, "data"
+
+
+SPACES = {"line": _line, "line_nd": _line_nd, "line_transfer": _line_transfer,
+          "homography": _homography,
           "fundamental": _fundamental,
           "pose2d": _pose2d, "pose3d": _pose3d, "rigid3d": _rigid3d,
-          "observations": _observations, "circle": _circle}
+          "observations": _observations, "circle": _circle, "skimage_circle": _skimage_circle}
 #: Options a space needs that have no default there.
-OPTIONS = {"observations": {"randomized_hough": {"cell_size": 0.2}}}
+OPTIONS = {"observations": {"randomized_hough": {"cell_size": 0.2}},
+           "skimage_circle": {"randomized_hough": {"cell_size": 0.1}}}
 _CACHE: dict = {}
 
 

@@ -40,9 +40,10 @@ def required_trials(inlier_ratio: float, sample_size: int, confidence: float) ->
     p = inlier_ratio**sample_size
     if p >= 1.0:
         return 1.0
-    if p <= 0.0:
-        return np.inf
-    return float(np.log(1.0 - confidence) / np.log1p(-p))
+    if p <= 0.0 or confidence >= 1.0:
+        return np.inf  # certainty, or no all-inlier sample: no finite number of trials
+    # log1p: a confidence of 1e-40 is one trial, not 0 (log(1 - 1e-40) == 0); + 0.0, not -0.0
+    return float(np.log1p(-confidence) / np.log1p(-p)) + 0.0
 
 
 def score_hypotheses(residuals, threshold: float, score: str = "inliers") -> np.ndarray:

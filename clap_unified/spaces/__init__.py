@@ -7,9 +7,11 @@ from .homography import HomographySpace, dlt
 from .hypothesis_set import HypothesisSet
 from .landmarks3d import Landmark3DSpace
 from .lines import LineSpace
+from .lines_nd import LineNDSpace
 from .observations import ObservationSpace
 from .rigid3d import Correspondence3DSpace, kabsch
 from .sampling import enumerate_hypotheses, generate_hypotheses, sample_subsets
+from .skimage_model import SkimageModelSpace
 
 __all__ = [
     "CircleSpace",
@@ -19,8 +21,10 @@ __all__ = [
     "HomographySpace",
     "HypothesisSpace",
     "Landmark3DSpace",
+    "LineNDSpace",
     "LineSpace",
     "ObservationSpace",
+    "SkimageModelSpace",
     "dlt",
     "enumerate_hypotheses",
     "generate_hypotheses",

@@ -147,3 +147,43 @@ class LineSpace(HypothesisSpace):
         centre = data.mean(axis=0)
         radius = float(np.sqrt(np.mean(np.sum((data - centre) ** 2, axis=1))))
         return 0.02 * max(radius, 1e-12)
+
+    @staticmethod
+    def predict_y(model, x) -> np.ndarray:
+        """The ``y`` of the line ``model`` at ``x`` (scikit-image's ``predict_y``).
+
+        A vertical line has no unique ``y``: ``ValueError``.
+
+        Examples
+        --------
+        >>> line = Line2D.from_normal_offset([-1.0, 1.0], 1.0)   # -x + y = 1
+        >>> LineSpace.predict_y(line, [0.0, 1.0]).round(12).tolist()
+        [1.0, 2.0]
+        """
+        return _predict(model, x, along=0)
+
+    @staticmethod
+    def predict_x(model, y) -> np.ndarray:
+        """The ``x`` of the line ``model`` at ``y`` (scikit-image's ``predict_x``).
+
+        A horizontal line has no unique ``x``: ``ValueError``.
+
+        Examples
+        --------
+        >>> line = Line2D.from_normal_offset([1.0, 0.0], 2.0)    # x = 2
+        >>> LineSpace.predict_x(line, [0.0, 5.0]).tolist()
+        [2.0, 2.0]
+        """
+        return _predict(model, y, along=1)
+
+
+def _predict(model, value, along: int) -> np.ndarray:
+    """The other coordinate of the points of a ``(theta, rho)`` line with coordinate
+    ``along`` equal to ``value``."""
+    (normal, offset) = Line2D.normal_offset(np.asarray(model, dtype=float).reshape(2))
+    other = 1 - along
+    if abs(normal[other]) <= 1e-15:
+        names = "xy"
+        raise ValueError(f"{names[along]}: the line is parallel to the {names[other]} axis: "
+                         f"no unique {names[other]}")
+    return (offset - normal[along] * np.asarray(value, dtype=float)) / normal[other]
