@@ -15,14 +15,16 @@ Every method runs on the same matches in one process, through
   as the peers return them (``refine=False``), at most 1000 iterations,
   confidence 0.995.
 
-Data: synthetic two-view scenes (random points, two cameras with known
-``K, R, t``, 0.5 px noise, 300 matches, 30 / 50 / 60 % outliers, ``--seeds``
+Data: synthetic two-view scenes
+(:func:`~clap_unified.imaging.datasets.synthetic_two_view`: random points,
+two cameras with known ``K, R, t``, 0.5 px noise, 300 matches, 30 / 50 / 60 % outliers, ``--seeds``
 scenes each), scored by the recall of the true inliers (Sampson error
 within the threshold, 1 px) and their median Sampson error; and the 19
-AdelaideRMF F sequences when present (``/work/shared/data/adelaidermf/F``,
-multi-structure: the estimate is scored by how many points of the largest
-true structure are within the threshold, 2 px, and which fraction of its
-inliers belong to that structure; the labels are used only to score). The
+AdelaideRMF F sequences when present
+(:func:`~clap_unified.imaging.datasets.load_adelaidermf`; multi-structure:
+the estimate is scored by how many points of the largest true structure
+are within the threshold, 2 px, and which fraction of its inliers belong
+to that structure; the labels are used only to score). The
 time is the median of ``--repeat`` runs of the whole ``fit`` call. Ratios are
 against OpenCV's MAGSAC++, measured in the same run. Not a test: run it with
 ``python bench/bench_fundamental.py``.
@@ -39,16 +41,19 @@ os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 import argparse  # noqa: E402
 import platform  # noqa: E402
 import time  # noqa: E402
-from pathlib import Path  # noqa: E402
 
 import cv2  # noqa: E402
 import numpy as np  # noqa: E402
 
 from clap_unified import FundamentalSpace, fit  # noqa: E402
-from clap_unified.geometry import normalise_projective, sampson_error  # noqa: E402
+from clap_unified.geometry import sampson_error  # noqa: E402
+from clap_unified.imaging.datasets import (  # noqa: E402
+    adelaidermf_names,
+    load_adelaidermf,
+    synthetic_two_view,
+)
 from clap_unified.viz import format_table  # noqa: E402
 
-ADELAIDE = Path(os.environ.get("ADELAIDERMF_F", "/work/shared/data/adelaidermf/F"))
 REFERENCE = "magsac"
 
 
@@ -67,46 +72,20 @@ def methods(n_hypotheses: int):
     }
 
 
-def _rotation(v):
-    v = np.asarray(v, dtype=float)
-    a = np.linalg.norm(v)
-    k = np.array([[0, -v[2], v[1]], [v[2], 0, -v[0]], [-v[1], v[0], 0]]) / a
-    return np.eye(3) + np.sin(a) * k + (1 - np.cos(a)) * k @ k
-
-
 def synthetic(n, outliers, noise, seed):
     """Matches of a random two-view scene, the true ``F`` and the inlier mask."""
-    rng = np.random.default_rng(seed)
-    K = np.array([[800.0, 0.0, 320.0], [0.0, 800.0, 240.0], [0.0, 0.0, 1.0]])
-    R = _rotation(rng.normal(0, 0.15, 3))
-    t = rng.normal(0, 1, 3)
-    t[2] *= 0.2
-    X = np.c_[rng.uniform(-2, 2, (n, 2)), rng.uniform(4, 8, n)]
-    p1, p2 = X @ K.T, (X @ R.T + t) @ K.T
-    x1, x2 = p1[:, :2] / p1[:, 2:], p2[:, :2] / p2[:, 2:]
-    tx = np.array([[0, -t[2], t[1]], [t[2], 0, -t[0]], [-t[1], t[0], 0]])
-    Ki = np.linalg.inv(K)
-    F = normalise_projective(Ki.T @ tx @ R @ Ki)
-    x1 = x1 + rng.normal(0, noise, x1.shape)
-    x2 = x2 + rng.normal(0, noise, x2.shape)
-    k = int(round(outliers * n))
-    x1[:k] = rng.uniform(x1[k:].min(0), x1[k:].max(0), (k, 2))
-    x2[:k] = rng.uniform(x2[k:].min(0), x2[k:].max(0), (k, 2))
-    return np.c_[x1, x2], F, np.arange(n) >= k
+    pair = synthetic_two_view(n, outliers, noise, rng=seed)
+    return pair.input.matches, pair.truth.F[0], pair.truth.labels == 1
 
 
 def adelaide():
     """``(name, matches, mask of the largest structure)`` of each AdelaideRMF F sequence."""
-    from scipy.io import loadmat
-
     out = []
-    for path in sorted(ADELAIDE.glob("*.mat")):
-        mat = loadmat(path)
-        d = mat["data"]
-        label = mat["label"].ravel()
-        structures = [k for k in np.unique(label) if k != 0]
-        largest = max(structures, key=lambda k: np.sum(label == k))
-        out.append((path.stem, np.c_[d[0], d[1], d[3], d[4]], label == largest))
+    for name in adelaidermf_names("fundamental"):
+        pair = load_adelaidermf(name, "fundamental", images=False)
+        label = pair.truth.labels
+        largest = np.bincount(label[label > 0]).argmax()
+        out.append((name, pair.input.matches, label == largest))
     return out
 
 
@@ -160,10 +139,11 @@ def main(argv=None) -> None:
              ("sampson [px]", "12.3f"), ("time [ms]", "9.1f"), ("/ magsac", "8.2f")]))
 
     # ---------------------------------------------------------------- AdelaideRMF
-    if not ADELAIDE.exists():
-        print(f"\nAdelaideRMF: {ADELAIDE} not present, skipped")
+    try:
+        seqs = adelaide()
+    except (FileNotFoundError, OSError) as err:
+        print(f"\nAdelaideRMF not available, skipped: {err}")
         return
-    seqs = adelaide()
     rows = {m: [] for m in specs}
     for _, matches, truth in seqs:
         for label, spec in specs.items():

@@ -11,6 +11,8 @@ see and whose ``truth`` is evaluation data (:mod:`clap_unified.datatypes`).
 * :mod:`.vpg`: the VPG stitching dataset layout;
 * ``synthetic_pairs``: synthetic hard homography pairs (few inliers, a
   coherent decoy motion, uniform outliers) with exact ground truth;
+* :mod:`.synthetic_two_view`: two views of one or several rigid motions
+  (fundamental matrices) with outliers and exact ground truth;
 * :mod:`.synthetic_vpg`: a VPG-layout set from scikit-image photographs and
   textures, pure-rotation cameras, exact ground truth;
 * :mod:`.stitching_sets`: eleven real panorama sets with parallax and no
@@ -43,13 +45,14 @@ from .stitching_sets import (
     stitching_set_names,
 )
 from .synthetic_pairs import SyntheticTruth, synthetic_pair, synthetic_pairs
+from .synthetic_two_view import TwoViewTruth, synthetic_two_view
 from .synthetic_vpg import SCENES, load_synthetic_vpg, make_synthetic_vpg
 from .vpg import VPGInput, VPGSet, VPGTruth, list_vpg_sets, load_vpg_set, vpg_root
 
 __all__ = ["SCENES", "HomographyInput", "HomographyPair", "HomographyTruth", "MultiModelInput",
            "MultiModelPair", "MultiModelTruth", "PanoramaInput", "PanoramaSet", "PanoramaTruth",
-           "SyntheticTruth", "VPGInput", "VPGSet", "VPGTruth", "adelaidermf_names",
+           "SyntheticTruth", "TwoViewTruth", "VPGInput", "VPGSet", "VPGTruth", "adelaidermf_names",
            "evd_names", "fetch", "homogr_names", "list_vpg_sets", "load_adelaidermf", "load_evd",
            "load_homogr", "load_manifest", "load_stitching_set", "load_synthetic_vpg",
            "load_vpg_set", "make_synthetic_vpg", "published_results", "stitching_set_names",
-           "synthetic_pair", "synthetic_pairs", "vpg_root"]
+           "synthetic_pair", "synthetic_pairs", "synthetic_two_view", "vpg_root"]
