@@ -295,29 +295,16 @@ def test_huge_coordinates_without_overflow(tmp_path, kind):
 
 def test_two_rigid_motions_give_two_fundamental_matrices(tmp_path, capsys):
     """Two objects moving differently between the views: two fundamental matrices."""
-    rng = np.random.default_rng(3)
-    K = np.array([[500.0, 0, 320], [0, 500, 240], [0, 0, 1]])
+    from clap_unified.imaging.datasets import synthetic_two_view
 
-    def view(points, R, t):
-        q = (points @ R.T + t) @ K.T
-        return q[:, :2] / q[:, 2:]
-
-    def rot(a):
-        c, s = np.cos(a), np.sin(a)
-        return np.array([[c, 0, s], [0, 1, 0], [-s, 0, c]])
-
-    rows = []
-    for angle, shift in ((0.05, [0.3, 0.0, 0.0]), (-0.08, [0.0, 0.25, 0.05])):
-        pts = rng.uniform([-1, -1, 4], [1, 1, 6], (120, 3))
-        x1 = view(pts, np.eye(3), np.zeros(3))
-        x2 = view(pts, rot(angle), np.array(shift)) + rng.normal(0, 0.3, (120, 2))
-        rows.append(np.c_[x1, x2])
-    data = np.r_[rows[0], rows[1], rng.uniform(0, 640, (40, 4))]
+    pair = synthetic_two_view(280, outliers=40 / 280, noise=0.3, motions=2, rng=3)
+    data, truth = pair.input.matches, pair.truth.labels
     path = tmp_path / "motions.csv"
     np.savetxt(path, data, delimiter=",")
     code, out, _ = run(["segment", "fundamental", str(path), "--seed", "0"], capsys)
     d = json.loads(out)
     assert code == 0 and len(d["models"]) == 2, d["reason"]
     labels = np.array(d["labels"])
-    for part in (slice(0, 120), slice(120, 240)):
-        assert np.bincount(labels[part][labels[part] >= 0]).max() > 100  # one motion, one label
+    for k in (1, 2):
+        own = labels[truth == k]
+        assert np.bincount(own[own >= 0]).max() > 100  # one motion (120 matches), one label
