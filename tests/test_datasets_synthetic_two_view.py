@@ -33,7 +33,7 @@ def test_counts_determinism_and_the_input_holds_no_truth():
 
 
 @pytest.mark.parametrize("kwargs, name", [
-    ({"n": 5}, "n"), ({"outliers": 1.0}, "outliers"), ({"outliers": -0.1}, "outliers"),
+    ({"n": 6}, "n"), ({"outliers": 1.0}, "outliers"), ({"outliers": -0.1}, "outliers"),
     ({"noise": -1.0}, "noise"), ({"motions": 0}, "motions"), ({"n": 20, "motions": 3}, "n"),
 ])
 def test_bad_arguments_name_themselves(kwargs, name):

@@ -78,7 +78,7 @@ def _rotation(v) -> np.ndarray:
 
 
 def synthetic_two_view(n: int = 300, outliers: float = 0.5, noise: float = 0.5, *,
-                       motions: int = 1, rng=None) -> MultiModelPair:
+                       motions: int = 1, rng=None, motion=None) -> MultiModelPair:
     """A two-view scene of ``motions`` rigid motions and outliers (see the module).
 
     Parameters
@@ -92,28 +92,46 @@ def synthetic_two_view(n: int = 300, outliers: float = 0.5, noise: float = 0.5, 
     motions : int
         Rigid motions (objects); the true matches are split evenly among them.
     rng : None, int or numpy.random.Generator
+    motion : (array_like, array_like), optional
+        ``(rotation vector, translation)`` of the one motion, instead of a drawn one
+        (``motions`` must be 1); the rotation vector's norm is the angle in radians.
 
     Returns
     -------
     MultiModelPair
         ``kind="fundamental"``; ``input.score`` is all zeros (no matching score).
     """
-    n = check_int(n, "n", minimum=8)
+    n = check_int(n, "n", minimum=7)
     outliers = check_fraction(outliers, "outliers")
     noise = check_positive(noise, "noise", allow_zero=True)
     motions = check_int(motions, "motions", minimum=1)
     g = as_generator(rng)
+    if motion is not None:
+        if motions != 1:
+            raise ValueError(f"motion: given for one motion, but motions={motions}")
+        try:
+            given = [np.asarray(v, dtype=float).reshape(3) for v in motion]
+        except (TypeError, ValueError):
+            raise ValueError("motion: expected (rotation vector, translation), 3 numbers "
+                             "each") from None
+        if len(given) != 2 or not all(np.all(np.isfinite(v)) for v in given):
+            raise ValueError("motion: expected (rotation vector, translation), 3 finite "
+                             "numbers each")
     k_out = int(round(outliers * n))
     sizes = np.full(motions, (n - k_out) // motions)
     sizes[: (n - k_out) % motions] += 1
-    if sizes.min() < 8:
-        raise ValueError(f"n: {n - k_out} true matches for {motions} motions, fewer than 8 each")
+    if sizes.min() < 7:
+        raise ValueError(f"n: {n - k_out} true matches for {motions} motions, fewer than 7 "
+                         "(a minimal sample) each")
     Ki = np.linalg.inv(CAMERA)
     x1s, x2s, Fs = [], [], []
     for size in sizes:
-        R = _rotation(g.normal(0, 0.15, 3))
-        t = g.normal(0, 1, 3)
-        t[2] *= 0.2
+        if motion is None:
+            R = _rotation(g.normal(0, 0.15, 3))
+            t = g.normal(0, 1, 3)
+            t[2] *= 0.2
+        else:
+            R, t = _rotation(given[0]), given[1]
         X = np.c_[g.uniform(-2, 2, (size, 2)), g.uniform(4, 8, size)]
         p1, p2 = X @ CAMERA.T, (X @ R.T + t) @ CAMERA.T
         x1s.append(p1[:, :2] / p1[:, 2:] + g.normal(0, noise, (size, 2)))
