@@ -181,7 +181,10 @@ def _fit_once(problem, method, strategy, n_hypotheses, rng, hypotheses, refine, 
         return failed(consensus.reason)
     clusters, support = _to_hypothesis_indices(consensus, keep, n_hyp, diag)
     model, inliers = finish_model(problem, consensus.model, refine=refine)
-    score, reason = consensus.score, "ok"
+    reason = success_rule(space, inliers)
+    if reason != "ok":
+        return failed(reason)
+    score = consensus.score
     if strategy.finish is not None:
         score, reason = strategy.finish(space, problem.data, model, inliers, problem.threshold,
                                         consensus)
@@ -330,6 +333,28 @@ def finish_model(problem: Problem, centre, *, refine: bool = True):
     if refine:
         return problem.space.refine(centre, problem.data, problem.threshold)
     return centre, problem.space.inliers(centre, problem.data, problem.threshold)
+
+
+def success_rule(space, inliers) -> str:
+    """The one success rule of :func:`fit`, for every strategy: ``"ok"`` or why it fails.
+
+    A model with fewer inliers than a minimal sample (``space.min_samples``)
+    is not supported by the data, whichever strategy found it: the result is a
+    failure with this reason (RANSAC, CLAP, randomized Hough and the peers
+    alike; before, CLAP and randomized Hough could succeed with no inlier at
+    a tiny threshold where RANSAC failed).
+
+    Examples
+    --------
+    >>> success_rule(LineSpace(), np.array([True, False, False]))
+    'the model has 1 inlier(s), fewer than a minimal sample (2)'
+    >>> success_rule(LineSpace(), np.array([True, True, False]))
+    'ok'
+    """
+    m, k = space.min_samples, int(np.count_nonzero(inliers))
+    if k < m:
+        return f"the model has {k} inlier(s), fewer than a minimal sample ({m})"
+    return "ok"
 
 
 def describe_radius(radius) -> str:

@@ -74,9 +74,10 @@ def _solve_both(space, m, idx, numpy_path):
     return owner
 
 
-def test_four_point_solve_rejects_h33_near_zero_like_numpy(numpy_path):
+def test_four_point_solve_scales_h33_near_zero_like_numpy(numpy_path):
     # exact correspondences of homographies whose H33 is 1e-16 .. 1e-8 of the largest
-    # entry: the source origin goes (nearly) to infinity; below 1e-12 both paths refuse
+    # entry: the source origin goes (nearly) to infinity; below 1e-12 both paths scale
+    # them to unit norm instead of H33 = 1 (issue 27: they were refused), bit for bit alike
     g = np.random.default_rng(3)
     src = g.uniform(10, 500, (40, 2))
     ratios = np.logspace(-16, -8, 40)
@@ -88,8 +89,12 @@ def test_four_point_solve_rejects_h33_near_zero_like_numpy(numpy_path):
     m = np.concatenate(m)
     idx = np.arange(len(m)).reshape(-1, 4)
     owner = _solve_both(HomographySpace(), m, idx, numpy_path)
-    kept = ratios[owner]
-    assert kept.min() > 1e-13 and len(owner) < len(ratios)  # the test is on the edge
+    assert len(owner) == len(ratios)  # none refused any more
+    H, _ = HomographySpace().solve_minimal(m, idx)
+    usual = H[:, 2, 2] == 1.0
+    assert usual.any() and (~usual).any()  # the test is on the edge
+    np.testing.assert_allclose(np.linalg.norm(H[~usual], axis=(1, 2)), 1.0, rtol=1e-15)
+    assert np.all(np.abs(H[~usual][:, 2, 2]) <= 1e-12 * np.abs(H[~usual]).max(axis=(1, 2)))
 
 
 def test_four_point_solve_collinearity_tolerance_of_each_side(numpy_path):

@@ -129,7 +129,10 @@ def run_clap(space, data, hypotheses: HypothesisSet, *, threshold: float, prior=
     max_clusters : int
         Global mode: clusters to report at most.
     min_support : int
-        Clusters with fewer members are not reported.
+        Clusters with fewer members are not reported. When the hypotheses
+        enumerate every minimal subset of the data (``hypotheses.exhaustive``)
+        and there are fewer than ``min_support`` of them, all of them are
+        asked instead (four matches give one homography: CLAP fits it).
     suppress : float
         Global mode: once a cluster is found, hypotheses within
         ``suppress * bandwidth`` of its seed or of its centre cannot seed
@@ -208,6 +211,13 @@ def run_clap(space, data, hypotheses: HypothesisSet, *, threshold: float, prior=
     models = hypotheses.models
     h = len(models)
     diag = {"mode": "global" if prior is None else "local"}
+    exhaustive = bool(getattr(hypotheses, "exhaustive", False))
+    if exhaustive and 0 < h < min_support:
+        # every minimal subset of the data was enumerated and there are fewer than
+        # min_support of them (4 matches: one homography): no cluster can have more
+        # support than the data allow, so the support asked is what exists
+        min_support = h
+        diag["min_support"] = h
     robust = dict(rejection=rejection, centre=centre, rounds=rounds,
                   discard_fraction=discard_fraction, mad_k=mad_k)
 
@@ -289,6 +299,8 @@ def run_clap(space, data, hypotheses: HypothesisSet, *, threshold: float, prior=
                 knn[seeds] = tree.knn(k, seeds)
             else:
                 knn = knn_distance(manifold, models, k, distances=dist)
+            if exhaustive and h <= k:  # every subset enumerated, fewer than k others exist
+                knn = np.zeros(h)
             order = np.argsort(knn, kind="stable")
             counts = np.where(np.isfinite(knn), min_support, 0)
         else:

@@ -21,12 +21,49 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["SINGULAR_RATIO", "dlt", "four_point_homography", "normalise_points",
-           "symmetric_transfer_error", "transfer", "transfer_error"]
+__all__ = ["H33_ZERO", "SINGULAR_RATIO", "dlt", "four_point_homography", "normalise_points",
+           "scale_homography", "symmetric_transfer_error", "transfer", "transfer_error"]
 
 
 #: Minimal-sample homographies with ``|det H| / prod_i |row_i|`` at or below this are rejected.
 SINGULAR_RATIO = 1e-10
+
+#: ``|H[2, 2]|`` at or below this fraction of ``max |H_ij|`` counts as zero (the image
+#: origin maps to infinity): such a homography is scaled by :func:`scale_homography`'s
+#: fallback instead of ``H[2, 2] = 1``.
+H33_ZERO = 1e-12
+
+
+def scale_homography(H) -> np.ndarray:
+    """The representative of homographies ``(..., 3, 3)`` the library reports.
+
+    ``H / H[2, 2]`` (``H33 = 1``, the usual convention) unless ``|H[2, 2]|`` is
+    at or below :data:`H33_ZERO` times the largest ``|H_ij|``; then (the
+    homography sends the image origin to infinity, a valid homography that has
+    no ``H33 = 1`` form) unit Frobenius norm, the largest entry (the first in
+    row-major order) positive. Non-finite or all-zero matrices give non-finite
+    entries (callers reject them).
+
+    Examples
+    --------
+    >>> scale_homography(np.diag([2.0, 2.0, 4.0])).diagonal().tolist()
+    [0.5, 0.5, 1.0]
+    >>> H = scale_homography([[0.0, -2.0, 0.0], [0.0, 0.0, 2.0], [2.0, 0.0, 0.0]])
+    >>> H.tolist()[0], H[2, 2]  # H33 = 0: unit norm, the first largest entry positive
+    ([-0.0, 0.5773502691896258, -0.0], np.float64(0.0))
+    """
+    H = np.asarray(H, dtype=float)
+    with np.errstate(all="ignore"):
+        flat = H.reshape(*H.shape[:-2], 9)
+        k = np.argmax(np.abs(flat), axis=-1)
+        top = np.take_along_axis(flat, k[..., None], axis=-1)[..., 0]
+        fro = flat[..., 0] * flat[..., 0]
+        for i in range(1, 9):  # summed in row-major order, as the compiled solver sums
+            fro = fro + flat[..., i] * flat[..., i]
+        fallback = np.where(top > 0, np.sqrt(fro), -np.sqrt(fro))
+        h33 = H[..., 2, 2]
+        d = np.where(np.abs(h33) > H33_ZERO * np.abs(top), h33, fallback)
+        return H / d[..., None, None]
 
 
 def normalise_points(points, weights=None):

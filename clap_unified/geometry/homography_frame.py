@@ -40,6 +40,7 @@ import numpy as np
 from .._validation import check_array, check_choice
 from ._matrix import expm, logm
 from .homography import Homography, _check_invertible, normalise_h33
+from .homography_arithmetic import scale_homography
 
 __all__ = ["HomographyInFrame", "reuse_pairwise_distances"]
 
@@ -185,13 +186,17 @@ class HomographyInFrame(Homography):
 
     # ------------------------------------------------------------ frames
     def projection(self, points, name: str = "H") -> np.ndarray:
-        """Pixel homographies scaled to ``H33 = 1``, refused if singular in the frame.
+        """Pixel homographies scaled to ``H33 = 1`` (unit norm where ``H33`` is zero: see
+        :func:`~clap_unified.geometry.homography_arithmetic.scale_homography`), refused if
+        singular in the frame.
 
         Invertibility is judged on ``T2 H T1^-1``: in pixels, coordinates far from the
         origin (or in a small unit) give a valid homography a translation column so large
         that its determinant falls below any bound relative to its entries.
         """
-        H = normalise_h33(points, name, check_invertible=False)
+        # H33 = 1, or unit norm where H33 is zero (the pixel origin maps to infinity: a
+        # homography all the same, invertible in the frame)
+        H = scale_homography(check_array(points, name, shape=(Ellipsis, 3, 3)))
         _check_invertible(self.T2 @ H @ self.T1inv, name)
         return H
 
@@ -212,10 +217,10 @@ class HomographyInFrame(Homography):
         return A, adj * (h / det[..., None, None])
 
     def from_frame(self, Hn, name: str = "H") -> np.ndarray:
-        """Pixel homographies ``T2^-1 Hn T1`` with ``H33 = 1`` (``Hn`` invertible)."""
+        """Pixel homographies ``T2^-1 Hn T1`` scaled by ``scale_homography`` (``Hn`` invertible)."""
         Hn = check_array(Hn, name, shape=(Ellipsis, 3, 3))
         _check_invertible(Hn, name)
-        return normalise_h33(self.T2inv @ Hn @ self.T1, name, check_invertible=False)
+        return scale_homography(self.T2inv @ Hn @ self.T1)
 
     # ------------------------------------------------------------ chart
     def log(self, point, base_point) -> np.ndarray:

@@ -115,7 +115,8 @@ class HomographyTransfer(Homography):
         """``(H(a_1), ..., H(a_K)) / sqrt(K)`` per homography, shape ``(..., 2K)``.
 
         NaN rows for homographies that send an anchor to infinity or flip the
-        sign of its homogeneous coordinate relative to ``H33``.
+        sign of its homogeneous coordinate relative to ``H33`` (relative to the
+        first anchor's when ``H33`` is zero).
         """
         H = np.asarray(points, dtype=float)
         if (_compiled.AVAILABLE and H.ndim == 3 and H.shape[1:] == (3, 3)
@@ -125,10 +126,14 @@ class HomographyTransfer(Homography):
         # elementwise, not a stack of tiny matrix products: no BLAS kernel in the last bits
         p = H[..., :, 0, None] * ax + H[..., :, 1, None] * ay + H[..., :, 2, None]  # (..., 3, K)
         w = p[..., 2, :]
-        # the sign of w at the anchors must be that of H33 (w at the image origin)
+        # the sign of w at the anchors must be that of H33 (w at the image origin); when
+        # H33 is zero (the origin maps to infinity) that of w at the first anchor: every
+        # anchor on one side of the line sent to infinity
         scale = np.abs(H.reshape(*H.shape[:-2], 9)).max(axis=-1)[..., None]
+        h33 = H[..., 2, 2]
+        sign = np.where(np.abs(h33) > 1e-12 * scale[..., 0], np.sign(h33), np.sign(w[..., 0]))
         with np.errstate(all="ignore"):
-            ok = np.all(w * np.sign(H[..., 2, 2])[..., None] > 1e-12 * scale, axis=-1)
+            ok = np.all(w * sign[..., None] > 1e-12 * scale, axis=-1)
             xy = p[..., :2, :] / w[..., None, :]
         emb = np.swapaxes(xy, -1, -2).reshape(*H.shape[:-2], 2 * len(ax)) / np.sqrt(len(ax))
         ok &= np.all(np.isfinite(emb), axis=-1)
@@ -174,6 +179,9 @@ def _transfer_embedding(H, anchors):
                     bad = True
                 scale = max(scale, e)
         sign = np.sign(H[t, 2, 2])
+        if not abs(H[t, 2, 2]) > 1e-12 * scale:  # H33 = 0: the side of the first anchor
+            sign = np.sign(H[t, 2, 0] * anchors[0, 0] + H[t, 2, 1] * anchors[0, 1]
+                           + H[t, 2, 2])
         for k in range(n_a):
             x, y = anchors[k, 0], anchors[k, 1]
             px = H[t, 0, 0] * x + H[t, 0, 1] * y + H[t, 0, 2]

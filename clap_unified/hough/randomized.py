@@ -154,20 +154,44 @@ def run_randomized_hough(space, data, hypotheses: HypothesisSet, *, threshold: f
                                                     num_peaks=num_peaks)
 
     cells, counts, cell_of, peaks = vote(base_point)
+    diag["occupied_cells"] = len(cells)
     if recentre and coordinates is None:
         first = np.flatnonzero(cell_of == peaks[0])
-        cells, counts, cell_of, peaks = vote(manifold.mean(models[first], max_iter=20))
+        base, why = _cell_mean(manifold, models[first])
+        if base is None:
+            return Consensus.failed(f"the mean of the {len(first)} hypotheses in the fullest "
+                                    f"cell is no model ({why})", **diag)
+        cells, counts, cell_of, peaks = vote(base)
+        diag["occupied_cells"] = len(cells)
     clusters = []
-    for p in peaks:
+    for rank, p in enumerate(peaks):
         members = np.flatnonzero(cell_of == p)
-        centre = manifold.mean(models[members], max_iter=20)
+        centre, why = _cell_mean(manifold, models[members])
+        if centre is None:
+            if rank == 0:  # the fullest cell is the answer: no answer, not a lesser one
+                return Consensus.failed(f"the mean of the {len(members)} hypotheses in the "
+                                        f"fullest cell is no model ({why})", **diag)
+            diag["dropped_peaks"] = diag.get("dropped_peaks", 0) + 1
+            continue
         clusters.append(Cluster(centre, int(counts[p]), half_cell, members))
-    diag["occupied_cells"] = len(cells)
     diag["runner_up_ratio"] = runner_up_ratio(clusters)
     support = np.zeros(h, bool)
     support[clusters[0].members] = True
     return Consensus(clusters[0].model, tuple(clusters), support,
                      float(clusters[0].support), "ok", diag)
+
+
+def _cell_mean(manifold, models):
+    """``(mean, "")`` of a cell's hypotheses, or ``(None, why)`` when the manifold refuses it.
+
+    The mean of valid models need not be one (the mean of homographies can be
+    singular, or send the image origin to infinity): the manifold then raises
+    ``ValueError`` naming what is wrong, and the vote has no answer there.
+    """
+    try:
+        return manifold.mean(models, max_iter=20), ""
+    except ValueError as exc:
+        return None, str(exc)
 
 
 register_strategy(Strategy(

@@ -4,8 +4,14 @@ Bad input (a missing or unreadable image or CSV, a folder, an image over
 :data:`MAX_IMAGE_PIXELS`, an unwritable output, ``--hypotheses`` times the matches over
 :data:`~clap_unified.io.MAX_WORK`) raises ``ValueError``: the command prints
 one line and exits with status 2. A failed estimate (fewer than 8 matches, no consensus,
-fewer than 8 matches agreeing with it, a homography that gives no plausible panorama) is a
-result with ``success: false`` and a ``reason``: status 1.
+fewer matches agreeing with it than a minimal sample, a homography that gives no plausible
+panorama) is a result with ``success: false`` and a ``reason``: status 1.
+
+``fit homography`` reports what :func:`~clap_unified.imaging.estimate.estimate_homography`
+returns on the same matches, seed and options: the same success, reason, model and inliers
+(one success rule, :func:`~clap_unified.fitting.fit`'s; the command adds none of its own).
+Only fewer than 8 matches differ in form: the library raises ``ValueError``, the command
+reports a failed estimate.
 Either way no panorama file is written: it is written to a temporary file next to the
 target and renamed only on success.
 """
@@ -108,8 +114,10 @@ def add_fit_homography(kinds) -> None:
         "homography", help="fit a homography to MATCHES.csv (rows x1,y1,x2,y2)",
         description="Fit the homography H mapping point 1 to point 2 of the matches in "
                     "MATCHES.csv. The JSON's model is {\"H\": 3 x 3 row-major, H33 = 1}, plus "
-                    f"matches. Fewer than {MIN_MATCHES} matches, or fewer than {MIN_MATCHES} "
-                    "agreeing with the estimate, is a failed estimate (exit 1).")
+                    f"matches. Fewer than {MIN_MATCHES} matches, or an estimate that fit's "
+                    "success rule fails (fewer inliers than a minimal sample of 4, no "
+                    "consensus), is a failed estimate (exit 1); otherwise the answer is "
+                    "estimate_homography's on the same matches and seed.")
     p.add_argument("matches", metavar="MATCHES.csv",
                    help=f"CSV file, one match per row: x1,y1,x2,y2 in pixels (the VPG "
                         f"correspondence format; header line optional; at most {MAX_MATCHES} "
@@ -128,17 +136,13 @@ def _failure(method: str, reason: str, n: int, threshold=None) -> ConsensusResul
 
 
 def _estimate(matches: np.ndarray, method: str, where: str, **options) -> ConsensusResult:
-    """The homography of ``matches``, or a failed result saying why (too few matches, no
-    consensus, too few matches agreeing with it)."""
+    """The homography of ``matches`` (:func:`estimate_homography`'s answer, unchanged), or a
+    failed result when there are too few matches to ask it."""
     n = len(matches)
     if n < MIN_MATCHES:
         return _failure(method, f"too few matches {where} ({n}; at least {MIN_MATCHES} are "
                                 "needed)", n, options.get("threshold"))
-    res = estimate_homography(matches, method, **options)
-    if res.success and res.n_inliers < MIN_MATCHES:
-        res = res.replace(success=False, reason=f"only {res.n_inliers} of {n} matches agree "
-                                                f"with the estimate, fewer than {MIN_MATCHES}")
-    return res
+    return estimate_homography(matches, method, **options)
 
 
 def _hypotheses_text(budget: dict) -> str:

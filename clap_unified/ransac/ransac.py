@@ -36,6 +36,8 @@ def required_trials(inlier_ratio: float, sample_size: int, confidence: float) ->
     --------
     >>> print(f"{required_trials(0.5, 2, 0.99):.1f}")
     16.0
+    >>> required_trials(0.5, 2, 1.0), required_trials(1.0, 2, 1.0)  # no division by zero
+    (inf, 1.0)
     """
     p = inlier_ratio**sample_size
     if p >= 1.0:
@@ -168,10 +170,8 @@ def run_ransac(space, data, hypotheses: HypothesisSet | None, *, threshold: floa
 
 
 def _finish(space, data, model, inliers, threshold, consensus):
-    """Score the returned (refined) model again; fewer than a minimal sample of inliers fails."""
-    m = space.min_samples
-    if np.count_nonzero(inliers) < m:
-        return 0.0, f"best model has fewer than {m} inliers"
+    """Score the returned (refined) model again (``fit``'s success rule has already
+    failed a model with fewer inliers than a minimal sample)."""
     kind = consensus.diagnostics["score_kind"]
     if kind == "inliers":  # the inliers are the residuals below the threshold: count them
         return float(np.count_nonzero(inliers)), "ok"

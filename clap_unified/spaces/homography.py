@@ -1,7 +1,9 @@
 """Hypothesis space of planar homographies.
 
 Convention: ``x2 ~ H x1`` for correspondences ``(x1, y1, x2, y2)`` (the VPG
-format). Models are normalised so that ``H[2, 2] = 1``.
+format). Models are normalised so that ``H[2, 2] = 1``; a homography whose ``H[2, 2]``
+is zero (it sends the image origin to infinity) has unit Frobenius norm instead
+(:func:`~clap_unified.geometry.homography_arithmetic.scale_homography`).
 
 The arithmetic every homography module uses lives on the geometry floor,
 :mod:`clap_unified.geometry.homography_arithmetic` (re-exported here):
@@ -35,6 +37,7 @@ from ..geometry.homography_arithmetic import (
     dlt,
     four_point_homography,  # noqa: F401  (re-exported: the arithmetic as before)
     normalise_points,
+    scale_homography,
     symmetric_transfer_error,
     transfer,  # noqa: F401  (re-exported)
     transfer_error,
@@ -248,10 +251,10 @@ class HomographySpace(HypothesisSpace):
         tol_dst = 1e-9 * max(np.abs(u).max(initial=0.0), np.abs(v).max(initial=0.0), 1.0) ** 2
         ok = ~(np.any(np.abs(dets_src) <= tol_src, axis=0)
                | np.any(np.abs(dets_dst) <= tol_dst, axis=0))
-        h33 = H[2, 2]
-        ok &= np.abs(h33) > 1e-12 * np.abs(H).max(axis=(0, 1), initial=0.0)
         owner = np.flatnonzero(ok)
-        H = H[..., owner] / h33[owner]
+        # H33 = 1, or scale_homography's fallback where H33 is zero (the image origin
+        # maps to infinity: a homography all the same, OpenCV fits it)
+        H = np.moveaxis(scale_homography(np.moveaxis(H[..., owner], -1, 0)), 0, -1)
         # near-singular models (a sample close to degenerate) are no homography:
         # |det G| against Hadamard's bound (the product of the row norms), a
         # ratio in [0, 1] free of H's scale, compared squared; a non-finite entry
@@ -287,9 +290,9 @@ class HomographySpace(HypothesisSpace):
                                                  np.ones(len(data)) if w is None else w)
         else:
             H = dlt(data[:, :2], data[:, 2:], w)
-        if abs(H[2, 2]) <= 1e-12 or not np.all(np.isfinite(H)):
+        H = scale_homography(H)  # H33 = 1, or the fallback where H33 is zero
+        if not np.all(np.isfinite(H)):
             return None
-        H = H / H[2, 2]
         sv = np.linalg.svd(H, compute_uv=False)  # rank < 3 as numpy.linalg.matrix_rank says
         if sv[-1] <= sv[0] * 3 * np.finfo(float).eps:
             return None
@@ -304,8 +307,7 @@ class HomographySpace(HypothesisSpace):
                                                                                 len(data))
 
     def model_to_dict(self, model) -> dict:
-        H = np.asarray(model, dtype=float)
-        return {"H": (H / H[2, 2]).tolist()}
+        return {"H": scale_homography(model).tolist()}
 
     def default_threshold(self, data) -> float:
         return 3.0  # pixels, OpenCV's default ransacReprojThreshold

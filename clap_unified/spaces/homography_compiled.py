@@ -129,10 +129,27 @@ def weighted_dlt(m, w):
 
 
 @_jit
+def scale_h33(H):
+    """``scale_homography`` of one ``3 x 3`` matrix: ``H33 = 1``, or (``|H33|`` at or below
+    ``1e-12 max |H_ij|``) unit Frobenius norm with the first largest entry positive."""
+    top = 0.0
+    fro = 0.0
+    for a in range(3):
+        for b in range(3):
+            fro += H[a, b] * H[a, b]
+            if abs(H[a, b]) > abs(top):
+                top = H[a, b]
+    d = H[2, 2]
+    if not abs(d) > 1e-12 * abs(top):
+        d = np.sqrt(fro) if top > 0 else -np.sqrt(fro)
+    return H / d
+
+
+@_jit
 def irls(H, m, t, iterations):
     """The reweighted DLT loop of the polish: ``(H, r, inliers)`` after at most ``iterations``.
 
-    ``H`` has ``H[2, 2] = 1``; ``t`` is the polish threshold. Each round
+    ``H`` is scaled as ``scale_homography`` scales it; ``t`` is the polish threshold. Each round
     refits on the inliers with Tukey weights ``(1 - (r / t)^2)^2`` and stops
     on a degenerate or non-finite solve, when the inliers fall below
     ``max(4, n / 2)``, or once the inliers repeat and their residuals move by
@@ -146,10 +163,9 @@ def irls(H, m, t, iterations):
     for _ in range(iterations):
         x = m[inl]
         wt = 1.0 - (r[inl] / t) ** 2
-        cand = weighted_dlt(x, wt * wt)
-        if not np.all(np.isfinite(cand)) or abs(cand[2, 2]) < 1e-12:
+        cand = scale_h33(weighted_dlt(x, wt * wt))
+        if not np.all(np.isfinite(cand)):
             break
-        cand = cand / cand[2, 2]
         r_new = symmetric_transfer_error(cand, m)
         inl_new = r_new < t
         n_new = inl_new.sum()
@@ -190,9 +206,9 @@ def four_point_solve(q, idx, s1, s2, c1x, c1y, c2x, c2y, singular_ratio, frame_t
     Returns
     -------
     H : ndarray of shape (M, 3, 3)
-        The usable homographies, ``H33 = 1``: no three points of the sample
-        (nearly) collinear on either side, ``H33`` away from zero, not
-        near-singular.
+        The usable homographies, ``H33 = 1`` (or, when ``H33`` is zero,
+        ``scale_homography``'s fallback): no three points of the sample
+        (nearly) collinear on either side, not near-singular.
     owner : ndarray of shape (M,)
         The sample of each, increasing.
     """
@@ -266,7 +282,18 @@ def four_point_solve(q, idx, s1, s2, c1x, c1y, c2x, c2y, singular_ratio, frame_t
             big = max(big, abs(h0), abs(h1), abs(h2))
         h33 = H[m, 2, 2]
         if not abs(h33) > 1e-12 * big:
-            continue
+            # H33 = 0 (the origin maps to infinity): scale_homography's fallback, unit
+            # Frobenius norm with the first largest entry positive
+            top = 0.0
+            fro = 0.0
+            for a in range(3):
+                for b in range(3):
+                    fro += H[m, a, b] * H[m, a, b]
+                    if abs(H[m, a, b]) > abs(top):
+                        top = H[m, a, b]
+            h33 = np.sqrt(fro) if top > 0 else -np.sqrt(fro)
+            if not (abs(h33) > 0.0 and abs(h33) < np.inf):
+                continue
         for a in range(3):
             for b in range(3):
                 H[m, a, b] = H[m, a, b] / h33

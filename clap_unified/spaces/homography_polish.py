@@ -20,7 +20,12 @@ import numpy as np
 
 from .. import _compiled
 from .._validation import check_array, check_int, check_points, check_positive
-from ..geometry.homography_arithmetic import dlt, symmetric_transfer_error, transfer
+from ..geometry.homography_arithmetic import (
+    dlt,
+    scale_homography,
+    symmetric_transfer_error,
+    transfer,
+)
 from . import homography_compiled
 
 __all__ = ["polish_checked", "polish_homography"]
@@ -88,7 +93,7 @@ def polish_checked(H, m, t: float, *, irls_iterations: int = 5, lm: bool = False
     :mod:`~clap_unified.spaces.homography_compiled` (default: when numba is
     available) or in numpy (``False``, the reference it is tested against).
     """
-    H = H / H[2, 2]
+    H = scale_homography(H)  # H33 = 1, or the fallback where H33 is zero
     if compiled is None:
         compiled = _compiled.AVAILABLE
     if compiled:
@@ -111,10 +116,9 @@ def _irls(H, m, t: float, irls_iterations: int):
         # the cost of the solve
         w = 1.0 - (r[inl] / t) ** 2
         x = m[inl]
-        cand = dlt(x[:, :2], x[:, 2:], w * w)
-        if not np.all(np.isfinite(cand)) or abs(cand[2, 2]) < 1e-12:
+        cand = scale_homography(dlt(x[:, :2], x[:, 2:], w * w))
+        if not np.all(np.isfinite(cand)):
             break
-        cand = cand / cand[2, 2]
         r_new = symmetric_transfer_error(cand, m)
         inl_new = r_new < t
         n_new = np.count_nonzero(inl_new)
