@@ -618,15 +618,8 @@ def test_ransac_invalid_input():
         fit(SkimageModelSpace(LineModelND, 11), data, "ransac", threshold=1.0)
 
 
-#: fit's success rule for a consensus without inliers is changed by another branch (issue
-#: 27's companion: "fewer inliers than a minimal sample is a failure"); RANSAC already
-#: fails there, CLAP does not yet. Remove the marker when that rule lands (strict: an
-#: unexpected pass fails the suite, as a reminder).
-NEEDS_SUCCESS_RULE = pytest.mark.xfail(
-    strict=True, reason="CLAP reports success with no inlier until fit's success rule changes")
-CLAP_NEEDS_RULE = pytest.param("clap", marks=NEEDS_SUCCESS_RULE)
 
-@pytest.mark.parametrize("method", ["ransac", CLAP_NEEDS_RULE])
+@pytest.mark.parametrize("method", ["ransac", "clap"])
 def test_ransac_sample_duplicates(method):
     """Four data, samples of three, ten trials: no sample repeats a datum."""
     class DummyModel:
@@ -646,7 +639,7 @@ def test_ransac_sample_duplicates(method):
 
 @pytest.mark.parametrize("space", [LineNDSpace(2), SkimageModelSpace(LineModelND, 3)],
                          ids=["LineNDSpace", "LineModelND"])
-@pytest.mark.parametrize("method", ["ransac", CLAP_NEEDS_RULE])
+@pytest.mark.parametrize("method", ["ransac", "clap"])
 def test_ransac_with_no_final_inliers(space, method):
     """Five random points and a threshold of (nearly) 0: no inliers, no model.
 
