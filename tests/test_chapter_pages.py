@@ -114,3 +114,22 @@ def test_the_checks_catch_each_defect():
     assert "96 characters" in defects[1]
     assert "warning" in defects[2]
     assert "bare object repr" in defects[3]
+
+
+def _toc_chapters() -> list[str]:
+    """The chapter notebooks in the order of the book's table of contents."""
+    toc = (BOOK.parent / "_toc.yml").read_text(encoding="utf-8")
+    return re.findall(r"^\s*- file: chapters/(\S+)\s*$", toc, flags=re.MULTILINE)
+
+
+def test_readme_numbers_the_chapters_as_the_book_does():
+    readme = (BOOK.parent.parent / "README.md").read_text(encoding="utf-8")
+    rows = re.findall(r"^\s*\| (\d+) \| (.+?) \| `(\S+)\.ipynb` \|\s*$", readme,
+                      flags=re.MULTILINE)
+    order = _toc_chapters()
+    assert len(order) == len(CHAPTERS), (order, CHAPTERS)
+    assert [(int(n), stem) for n, _, stem in rows] == list(enumerate(order, start=1))
+    for _, title, stem in rows:
+        first = json.loads((BOOK / f"{stem}.ipynb").read_text(encoding="utf-8"))["cells"][0]
+        heading = _text(first["source"]).splitlines()[0].removeprefix("# ").strip()
+        assert title.startswith(heading.split(":")[0]), (title, heading)
