@@ -455,9 +455,9 @@ def verdicts_markdown(claims) -> str:
 
 
 def _write_report(out: Path, outputs: dict, claims: list, quick: bool) -> None:
+    # No backend switch: in a notebook that would silently drop the figures drawn after the
+    # call; each figure here is saved to bytes and closed, so no backend ever shows it.
     import matplotlib
-
-    matplotlib.use("Agg", force=False)
     import matplotlib.pyplot as plt
 
     written = set()
