@@ -187,7 +187,8 @@ def _add_row(rows: list, row: list, lineno: int, path: Path, columns: int, max_r
     if not row or all(not c.strip() for c in row):
         return
     if len(row) != columns:
-        raise ValueError(f"{path}: line {lineno}: expected {columns} values, got {len(row)}")
+        raise ValueError(f"{path}: line {lineno}: expected {columns} values, got {len(row)}"
+                         + _separator_hint(row, columns))
     try:
         values = [float(c) for c in row]
     except ValueError:
@@ -204,6 +205,36 @@ def _add_row(rows: list, row: list, lineno: int, path: Path, columns: int, max_r
     if len(rows) >= max_rows:
         raise ValueError(f"{path}: more than {max_rows} rows")
     rows.append(values)
+
+
+#: Separators other than the comma that a points file is often written with, by name.
+_OTHER_SEPARATORS = ((";", "semicolons"), ("\t", "tabs"), ("|", "vertical bars"))
+
+
+def _separator_hint(row: list, columns: int) -> str:
+    """A hint for a row that holds one value where ``columns`` were expected: the separator
+    the file seems to use instead of the comma ("" when there is none to name).
+
+    Examples
+    --------
+    >>> _separator_hint(["1.0;2.0"], 2)
+    "; the values seem to be separated by semicolons (';'): write them comma-separated, as 'x,y'"
+    >>> _separator_hint(["1.0 2.0"], 2)
+    "; the values seem to be separated by spaces: write them comma-separated, as 'x,y'"
+    >>> _separator_hint(["1", "2", "3"], 2)
+    ''
+    """
+    if len(row) != 1 or columns < 2:
+        return ""
+    cell = row[0].strip()
+    example = "x,y" if columns == 2 else ",".join(f"v{i + 1}" for i in range(columns))
+    advice = f": write them comma-separated, as {example!r}"
+    for sep, name in _OTHER_SEPARATORS:
+        if sep in cell:
+            return f"; the values seem to be separated by {name} ({sep!r}){advice}"
+    if len(cell.split()) > 1:
+        return f"; the values seem to be separated by spaces{advice}"
+    return ""
 
 
 def _short(value, limit: int = 80) -> str:

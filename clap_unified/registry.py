@@ -174,7 +174,13 @@ class _Registry:
 
     def get(self, name: str, space=None):
         if not isinstance(name, str) or name not in self.entries:
-            raise ValueError(f"method: expected one of {sorted(self.entries)}, got {name!r}")
+            # with a space, the choices are the names that work in it (the registry also
+            # holds strategies of other spaces: OpenCV's homography estimators, Open3D's)
+            choices = sorted(self.names(space))
+            hint = ""
+            if isinstance(name, str) and name.lower() in choices:
+                hint = f" (names are lower case: {name.lower()!r})"
+            raise ValueError(f"method: expected one of {choices}, got {name!r}{hint}")
         entry = self.entries[name]
         if space is not None and not entry.applies(space):
             raise ValueError(f"method: {name!r} works in the {', '.join(entry.applies_to)} "

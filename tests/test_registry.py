@@ -81,3 +81,28 @@ def test_each_hough_variant_has_its_own_name():
     assert get_strategy("hough").applies_to == ("line",)
     assert not get_strategy("hough").uses_hypotheses
     assert get_strategy("randomized_hough").uses_hypotheses
+
+
+def test_unknown_method_lists_only_the_strategies_of_the_space():
+    # the registry also holds other spaces' strategies (OpenCV's homography estimators,
+    # Open3D's 3D alignment); a line fit must not offer them
+    from clap_unified import LineSpace, fit_line, strategy_names
+
+    pts = np.c_[np.arange(10.0), np.arange(10.0)]
+    with pytest.raises(ValueError) as info:
+        fit_line(pts, "CLAP")
+    msg = str(info.value)
+    assert msg.startswith("method: expected one of ")
+    assert str(sorted(strategy_names(LineSpace.for_data(pts)))) in msg
+    for other in ("magsac", "poselib", "open3d", "cv2_ransac"):
+        assert f"'{other}'" not in msg
+    assert "(names are lower case: 'clap')" in msg
+
+
+def test_unknown_method_without_a_space_lists_every_strategy():
+    from clap_unified import get_strategy, strategy_names
+
+    with pytest.raises(ValueError) as info:
+        get_strategy("nope")
+    assert str(sorted(strategy_names())) in str(info.value)
+    assert "lower case" not in str(info.value)

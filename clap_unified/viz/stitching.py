@@ -17,6 +17,19 @@ HOMOGRAPHY_STYLE = {
     "cv2.RANSAC": {"color": "#E69F00", "marker": "s"},
     "cv2.USAC_MAGSAC": {"color": "#CC79A7", "marker": "P"},
     "USAC RANSAC 1000": {"color": "#999999", "marker": "*"},
+    # chapter 5's names for the paper's protocol as written ("clap_paper"), told apart from
+    # the library's default CLAP: the same colours as above
+    "CLAP (paper)": {"color": "#009E73", "marker": "^"},
+    "CLAP (paper) ordered": {"color": "#56B4E9", "marker": "v"},
+    "CLAP (paper) ordered, 1000": {"color": "#0072B2", "marker": "D"},
+    "CLAP (paper), 1000": {"color": "#0072B2", "marker": "D"},
+    "CLAP (paper) + polish": {"color": "#777777", "marker": "+"},
+    # the performance chapter's methods: the library's default CLAP is "CLAP" above
+    "CLAP + quality": {"color": "#56B4E9", "marker": "v"},
+    "CLAP (densest)": {"color": "#777777", "marker": "X"},
+    "cv2.USAC_ACCURATE": {"color": "#D55E00", "marker": "d"},
+    "PoseLib": {"color": "#0072B2", "marker": "p"},
+    "COLMAP": {"color": "#000000", "marker": "*"},
 }
 
 
