@@ -24,16 +24,11 @@ import pytest
 BOOK = Path(__file__).resolve().parent.parent / "book" / "chapters"
 CHAPTERS = sorted(BOOK.glob("*.ipynb"))
 
-#: Tags under which a code cell's source is not shown as it stands.
-HIDDEN = {"remove-input", "remove-cell", "hide-input"}
+#: Tags under which a code cell's source is not shown as it stands (removed or folded).
+HIDDEN = {"remove-input", "remove-cell", "hide-input", "hide-cell"}
 MAX_VISIBLE_LINES = 25
 MAX_OUTPUT_WIDTH = 95
 BARE_REPR = re.compile(r"\s*(Text\(|<matplotlib|<Figure)")
-
-#: Chapters another helper is shortening in parallel (issue 28); the marks go on merge.
-BEING_SHORTENED = {"05_homographies", "05b_stitching",
-                   "06_performance", "07_your_data"}
-
 
 def _text(value) -> str:
     return "".join(value) if isinstance(value, list) else str(value)
@@ -73,9 +68,7 @@ def page_defects(notebook: dict) -> list[str]:
 
 
 def _param(path: Path):
-    marks = ([pytest.mark.xfail(strict=False, reason="issue 28: being shortened")]
-             if path.stem in BEING_SHORTENED else [])
-    return pytest.param(path, id=path.stem, marks=marks)
+    return pytest.param(path, id=path.stem)
 
 
 def test_the_chapters_are_found():

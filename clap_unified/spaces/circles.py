@@ -72,8 +72,10 @@ class CircleSpace(HypothesisSpace):
         ok = np.abs(d) > 1e-9  # collinear (or coincident) samples have no circle
         a, b, c, d = a[ok], b[ok], c[ok], d[ok]
         sa, sb, sc = (np.sum(p * p, axis=1) for p in (a, b, c))
-        cx = (sa * (b[:, 1] - c[:, 1]) + sb * (c[:, 1] - a[:, 1]) + sc * (a[:, 1] - b[:, 1])) / d
-        cy = (sa * (c[:, 0] - b[:, 0]) + sb * (a[:, 0] - c[:, 0]) + sc * (b[:, 0] - a[:, 0])) / d
+        cx = (sa * (b[:, 1] - c[:, 1]) + sb * (c[:, 1] - a[:, 1])
+              + sc * (a[:, 1] - b[:, 1])) / d
+        cy = (sa * (c[:, 0] - b[:, 0]) + sb * (a[:, 0] - c[:, 0])
+              + sc * (b[:, 0] - a[:, 0])) / d
         r = np.hypot(a[:, 0] - cx, a[:, 1] - cy)
         u = unit[ok, None]
         return np.c_[centre[ok] + u * np.c_[cx, cy], u[:, 0] * r], np.flatnonzero(ok)
