@@ -276,3 +276,24 @@ def test_compare_segmenters_runs_every_method_on_one_hypothesis_set():
     assert all(agreement(r.labels, truth) > 0.95 for r in out.values())
     with pytest.raises(ValueError, match="options"):
         compare_segmenters(space, pts, methods=("clap",), options={"ransac": {}})
+
+
+def test_t_linkage_distances_ignore_the_last_bits_of_the_preferences():
+    """Another BLAS kernel changes the dot products' last bits; the distances the merges
+    compare must not follow them (a flip seen on AdelaideRMF bonhall under
+    OPENBLAS_CORETYPE=SandyBridge), and the clusters stay the same."""
+    from clap_unified.preference.tlinkage import _tanimoto, t_linkage_clusters
+
+    rng = np.random.default_rng(0)
+    base = np.where(rng.uniform(size=(12, 40)) < 0.3, rng.uniform(0.2, 1.0, (12, 40)), 0.0)
+    P = np.repeat(base, 4, axis=0)          # every datum four times: exact ties everywhere
+
+    def distances(Q):
+        sq = np.einsum("ij,ij->i", Q, Q)
+        return _tanimoto(Q @ Q.T, sq[:, None], sq[None, :])
+
+    labels = t_linkage_clusters(P)
+    for k in range(5):
+        wobbled = P * (1 + 1e-14 * np.random.default_rng(k).standard_normal(P.shape))
+        np.testing.assert_array_equal(distances(wobbled), distances(P))
+        np.testing.assert_array_equal(t_linkage_clusters(wobbled), labels)

@@ -81,11 +81,18 @@ def t_linkage_clusters(preferences) -> np.ndarray:
     return labels.astype(np.intp)
 
 
+#: Tanimoto distances are rounded to this many decimals before they are compared: the dot
+#: products come from BLAS, whose last bits differ between CPU kernels, and an exact tie
+#: (repeated data, equal preferences) must be broken by index on every machine, not by them.
+DECIMALS = 9
+
+
 def _tanimoto(dot, sq_a, sq_b):
-    """``1 - <p, q> / (|p|^2 + |q|^2 - <p, q>)``; 1 when both are zero."""
+    """``1 - <p, q> / (|p|^2 + |q|^2 - <p, q>)``; 1 when both are zero; rounded (DECIMALS)."""
     den = sq_a + sq_b - dot
     with np.errstate(invalid="ignore", divide="ignore"):
-        return np.where(den > 0, 1.0 - dot / np.where(den > 0, den, 1.0), 1.0)
+        d = np.where(den > 0, 1.0 - dot / np.where(den > 0, den, 1.0), 1.0)
+    return np.round(d, DECIMALS)
 
 
 def run_t_linkage(space, data, hypotheses, *, threshold: float, rng=None,
