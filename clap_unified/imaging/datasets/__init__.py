@@ -11,7 +11,7 @@ see and whose ``truth`` is evaluation data (:mod:`clap_unified.datatypes`).
 * :mod:`.vpg`: the VPG stitching dataset layout;
 * ``synthetic_pairs``: synthetic hard homography pairs (few inliers, a
   coherent decoy motion, uniform outliers) with exact ground truth;
-* :mod:`.synthetic_two_view`: two views of one or several rigid motions
+* ``synthetic_two_view``: two views of one or several rigid motions
   (fundamental matrices) with outliers and exact ground truth;
 * :mod:`.synthetic_vpg`: a VPG-layout set from scikit-image photographs and
   textures, pure-rotation cameras, exact ground truth;
