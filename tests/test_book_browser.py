@@ -46,9 +46,11 @@ const collect = () => {
     const cap = fig ? fig.querySelector('figcaption') : null;
     return {src: img.getAttribute('src'), complete: img.complete,
             width: img.naturalWidth, alt: img.getAttribute('alt') || '',
+            // textContent, not innerText: a figure in a folded cell (an exercise's
+            // solution) has its number and caption in the page, hidden until unfolded
             number: cap && cap.querySelector('.caption-number')
-                    ? cap.querySelector('.caption-number').innerText : '',
-            caption: cap ? cap.innerText : ''};
+                    ? cap.querySelector('.caption-number').textContent.trim() : '',
+            caption: cap ? cap.textContent.trim() : ''};
   });
   const scripts = [...document.querySelectorAll('script[src]')].map(s => s.src);
   const links = [...document.querySelectorAll('a[href]')].map(a => a.href);
