@@ -40,7 +40,7 @@ import numpy as np
 from .._validation import check_array, check_int, check_positive
 from .base import Manifold
 
-__all__ = ["LineND", "canonical_lines_nd", "line_residuals", "points_at",
+__all__ = ["LineND", "canonical_lines_nd", "line_residuals", "points_at", "principal_axes",
            "predict_coordinate"]
 
 
@@ -74,6 +74,45 @@ def canonical_lines_nd(lines, centre=None) -> np.ndarray:
     o = lines[..., 0, :]
     o = o + np.sum((c - o) * u, axis=-1, keepdims=True) * u
     return np.stack([o, u], axis=-2)
+
+
+def principal_axes(points, weights=None):
+    """Weighted centroid of ``points`` and the eigen-decomposition of their scatter.
+
+    The scatter is taken in the points' own unit (deviations divided by their largest
+    magnitude), so data at 1e-300 do not underflow. ``None`` when fewer than two points
+    have positive weight or they all coincide (to their precision).
+
+    Returns
+    -------
+    centre : ndarray of shape (d,)
+    evals, evecs : ndarray
+        ``numpy.linalg.eigh`` of the scaled scatter: ascending eigenvalues, unit
+        eigenvectors in columns (the last column is the direction of largest spread).
+
+    Examples
+    --------
+    >>> centre, evals, evecs = principal_axes([[0.0, 0.0], [2.0, 0.0], [4.0, 0.0]])
+    >>> centre.tolist(), np.abs(evecs[:, -1]).tolist()
+    ([2.0, 0.0], [1.0, 0.0])
+    >>> principal_axes([[1.0, 1.0], [1.0, 1.0]]) is None
+    True
+    """
+    data = np.asarray(points, dtype=float)
+    w = np.ones(len(data)) if weights is None else np.asarray(weights, dtype=float)
+    keep = w > 0
+    if np.count_nonzero(keep) < 2:
+        return None
+    x, w = data[keep], w[keep]
+    centre = (w[:, None] * x).sum(axis=0) / w.sum()
+    dev = x - centre
+    spread = float(np.max(np.abs(dev)))
+    if not spread > 1e-12 * float(np.max(np.abs(x))):
+        return None  # all points coincide (to their precision): no direction
+    dev /= spread  # in the points' own unit: no underflow at 1e-300
+    cov = (dev.T * w) @ dev / w.sum()
+    evals, evecs = np.linalg.eigh(cov)
+    return centre, evals, evecs
 
 
 def line_residuals(lines, points) -> np.ndarray:

@@ -7,6 +7,7 @@ import numpy as np
 from .._validation import check_choice, check_points
 from ..geometry.line_transfer import LineTransfer
 from ..geometry.lines import Line2D
+from ..geometry.lines_nd import principal_axes
 from .base import HypothesisSpace
 
 __all__ = ["LineSpace"]
@@ -114,20 +115,10 @@ class LineSpace(HypothesisSpace):
         return Line2D.from_normal_offset(normal, offset), np.flatnonzero(ok)
 
     def refit(self, data, weights=None, initial=None):
-        data = np.asarray(data, dtype=float)
-        w = np.ones(len(data)) if weights is None else np.asarray(weights, dtype=float)
-        keep = w > 0
-        if np.count_nonzero(keep) < 2:
+        axes = principal_axes(data, weights)
+        if axes is None:
             return None
-        x, w = data[keep], w[keep]
-        centre = (w[:, None] * x).sum(axis=0) / w.sum()
-        dev = x - centre
-        spread = float(np.max(np.abs(dev)))
-        if not spread > 1e-12 * float(np.max(np.abs(x))):
-            return None  # all points coincide (to their precision): no direction
-        dev /= spread  # the covariance in the points' own unit: no underflow at 1e-300
-        cov = (dev.T * w) @ dev / w.sum()
-        evals, evecs = np.linalg.eigh(cov)
+        centre, evals, evecs = axes
         if evals[1] <= 1e-24:
             return None
         normal = evecs[:, 0]

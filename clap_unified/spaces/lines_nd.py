@@ -11,6 +11,7 @@ from ..geometry.lines_nd import (
     line_residuals,
     points_at,
     predict_coordinate,
+    principal_axes,
 )
 from .base import HypothesisSpace
 
@@ -106,20 +107,10 @@ class LineNDSpace(HypothesisSpace):
         return line_residuals(np.asarray(models, dtype=float).reshape(-1, 2, self.dim), data)
 
     def refit(self, data, weights=None, initial=None):
-        data = np.asarray(data, dtype=float)
-        w = np.ones(len(data)) if weights is None else np.asarray(weights, dtype=float)
-        keep = w > 0
-        if np.count_nonzero(keep) < 2:
+        axes = principal_axes(data, weights)
+        if axes is None:
             return None
-        x, w = data[keep], w[keep]
-        centre = (w[:, None] * x).sum(axis=0) / w.sum()
-        dev = x - centre
-        spread = float(np.max(np.abs(dev)))
-        if not spread > 1e-12 * float(np.max(np.abs(x))):
-            return None  # all points coincide (to their precision): no direction
-        dev /= spread  # in the points' own unit: no underflow at 1e-300
-        cov = (dev.T * w) @ dev / w.sum()
-        evals, evecs = np.linalg.eigh(cov)
+        centre, evals, evecs = axes
         if evals[-1] <= 1e-24:
             return None
         line = np.stack([centre, evecs[:, -1]])
