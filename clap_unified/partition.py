@@ -11,17 +11,22 @@ multi-model strategy and by :func:`~clap_unified.segment`:
   truncated squared residuals of the data plus a cost per model (the number
   of models, by model selection);
 * :func:`refit_partition`: assign, refit each model on its own data, drop the
-  models left with too little, until the labels stop changing.
+  models left with too little, until the labels stop changing;
+* :func:`finish_partition`: that finish as :func:`~clap_unified.segment` runs
+  it, with the neighbour graph of spatial coherence built from the data;
+* :func:`label_cost_energy`: the energy :func:`select_by_label_cost` minimises,
+  of any set of models (to ask whether an answer is the objective's or the
+  search's).
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from .coherence import coherent_labels
+from .coherence import coherent_labels, neighbour_graph
 
-__all__ = ["assign_labels", "refine_hypotheses", "refit_partition", "select_by_label_cost",
-           "select_models"]
+__all__ = ["assign_labels", "finish_partition", "label_cost_energy", "refine_hypotheses",
+           "refit_partition", "select_by_label_cost", "select_models"]
 
 
 def assign_labels(space, models, data, threshold: float) -> np.ndarray:
@@ -168,6 +173,42 @@ def select_by_label_cost(space, candidates, data, threshold: float, label_cost: 
     return np.asarray(chosen, dtype=np.intp)
 
 
+def label_cost_energy(space, models, data, threshold: float, label_cost: float) -> float:
+    """``sum_i min(min_k r_ik^2, t^2) + label_cost * K``: the energy of a set of ``K`` models.
+
+    The objective of :func:`select_by_label_cost`, for any models (found by
+    a method, or the true structures refitted on their data): when a wrong
+    answer has a lower energy than the truth, the objective prefers it and no
+    search can repair it; when it has a higher one, the search stopped short.
+
+    Parameters
+    ----------
+    space : HypothesisSpace
+    models : ndarray of shape (K,) + model_shape
+    data : ndarray
+    threshold : float
+    label_cost : float
+        In squared data units, as :func:`select_by_label_cost` takes it.
+
+    Returns
+    -------
+    float
+
+    Examples
+    --------
+    >>> from clap_unified.spaces import LineSpace
+    >>> pts = np.array([[0.0, 0.0], [1.0, 0.0], [2.0, 1.0]])
+    >>> label_cost_energy(LineSpace(), np.array([[np.pi / 2, 0.0]]), pts, 0.5, 0.1)
+    0.35
+    """
+    models = np.asarray(models, dtype=float)
+    t2 = float(threshold) ** 2
+    if len(models) == 0:
+        return t2 * len(data)
+    r = space.residuals(models.reshape((-1, *space.model_shape)), data)
+    return float(np.minimum((r * r).min(axis=0), t2).sum() + label_cost * len(models))
+
+
 def refine_hypotheses(space, models, data, threshold: float, *, rounds: int = 1) -> np.ndarray:
     """Each hypothesis refitted on its own inliers, ``rounds`` times (a degenerate refit keeps it).
 
@@ -241,6 +282,28 @@ def refit_partition(space, models, data, threshold: float, min_support: int, *,
                                             labels)
         kept = kept[again]
     return models, labels, kept
+
+
+def finish_partition(space, models, data, threshold: float, min_support: int, *,
+                     coherence: float = 0.0, coherence_neighbours: int = 8):
+    """:func:`refit_partition` with the data's neighbour graph: the finish of every segmenter.
+
+    Parameters
+    ----------
+    space, models, data, threshold, min_support, coherence
+        As :func:`refit_partition`.
+    coherence_neighbours : int
+        Each datum's neighbours in the graph
+        (:func:`~clap_unified.coherence.neighbour_graph`), when ``coherence > 0``.
+
+    Returns
+    -------
+    models, labels, kept
+        As :func:`refit_partition`.
+    """
+    edges = neighbour_graph(data, coherence_neighbours) if coherence else None
+    return refit_partition(space, models, data, threshold, min_support, coherence=coherence,
+                           edges=edges)
 
 
 def _refit_loop(space, models, data, min_support, rounds, label, labels=None):

@@ -5,7 +5,7 @@ Data flow of :func:`segment`, sharing :func:`~clap_unified.fitting.fit`'s parts:
     data --check_problem------> checked data and threshold
          --draw_hypotheses----> HypothesisSet            (unless given, or not used)
          --segmenter.run------> Segmentation             (candidate models, best first)
-         --refit_partition----> models, labels           (the same finish for every method)
+         --finish_partition---> models, labels           (the same finish for every method)
          --> SegmentationResult (frozen)
 
 Every segmenter gets the same hypotheses (with the same seed), the same
@@ -26,9 +26,8 @@ import time
 import numpy as np
 
 from ._validation import check_int, check_positive
-from .coherence import neighbour_graph
 from .fitting import _own_options, check_problem, draw_hypotheses
-from .partition import assign_labels, refit_partition
+from .partition import assign_labels, finish_partition
 from .registry import get_segmenter
 from .result import SegmentationResult
 from .spaces.base import HypothesisSet, HypothesisSpace
@@ -144,9 +143,9 @@ def segment(space, data, method: str = "clap", *, n_hypotheses: int = 2000,
     scores = np.asarray(found.scores, dtype=float).reshape(-1)
     labels = found.labels
     if refine and len(models):
-        edges = neighbour_graph(problem.data, coherence_neighbours) if coherence else None
-        models, labels, kept = refit_partition(space, models, problem.data, problem.threshold,
-                                               min_support, coherence=coherence, edges=edges)
+        models, labels, kept = finish_partition(space, models, problem.data, problem.threshold,
+                                                min_support, coherence=coherence,
+                                                coherence_neighbours=coherence_neighbours)
         scores = scores[kept]
     elif labels is None:
         labels = assign_labels(space, models, problem.data, problem.threshold)

@@ -297,3 +297,47 @@ def test_t_linkage_distances_ignore_the_last_bits_of_the_preferences():
         wobbled = P * (1 + 1e-14 * np.random.default_rng(k).standard_normal(P.shape))
         np.testing.assert_array_equal(distances(wobbled), distances(P))
         np.testing.assert_array_equal(t_linkage_clusters(wobbled), labels)
+
+
+def test_label_cost_energy_is_what_the_selection_minimises():
+    """The chosen set's energy is at most that of the empty set and of every single candidate."""
+    from clap_unified.partition import label_cost_energy
+
+    x = np.linspace(-5, 5, 30)
+    pts = np.r_[np.c_[x, 0 * x], np.c_[x, 0 * x + 0.1], [[0.0, 3.0], [1.0, -2.0]]]
+    cands = np.array([[np.pi / 2, 0.05], [np.pi / 2, 0.0], [np.pi / 2, 0.1], [0.3, 1.0]])
+    space = LineSpace()
+    for cost in (1e-4, 1e-2, 1.0):
+        chosen = select_by_label_cost(space, cands, pts, 0.2, cost)
+        e = label_cost_energy(space, cands[chosen], pts, 0.2, cost)
+        assert e <= label_cost_energy(space, cands[:0], pts, 0.2, cost) + 1e-12
+        for c in range(len(cands)):
+            assert e <= label_cost_energy(space, cands[c:c + 1], pts, 0.2, cost) + 1e-12
+    # no model: every datum pays t^2
+    assert label_cost_energy(space, cands[:0], pts, 0.2, 5.0) == pytest.approx(0.04 * len(pts))
+
+
+def test_explain_errors_scores_clap_against_the_annotated_planes(monkeypatch):
+    """The oracle's planes come from the labels; CLAP still sees only the matches."""
+    from clap_unified.imaging import segment_matches as sm
+    from clap_unified.imaging.datasets.adelaidermf import load_adelaidermf
+
+    try:
+        pair = load_adelaidermf("elderhallb", images=False)
+    except OSError:
+        pytest.skip("AdelaideRMF is not here")
+    seen = []
+    real = sm.segment
+
+    def spy(space, data, method, **kw):
+        seen.append(np.array(data))
+        return real(space, data, method, **kw)
+
+    monkeypatch.setattr(sm, "segment", spy)
+    (row,) = sm.explain_errors(threshold=7.0, seed=0, names=["elderhallb"])
+    assert len(seen) == 1
+    np.testing.assert_array_equal(seen[0], pair.input.matches)
+    assert row["true_models"] == 3 and row["cause"] in {"objective", "search", "none"}
+    # the annotated planes through the same finish err less than a method can be expected to
+    assert 0.0 <= row["oracle_error"] <= row["error"] + 1e-12
+    assert row["energy"] > 0 and row["oracle_energy"] > 0

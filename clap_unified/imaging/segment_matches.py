@@ -5,7 +5,9 @@
 the one home of the multi-model defaults the command line, the benchmark and
 the book share. :func:`evaluate_adelaidermf` runs methods on the AdelaideRMF
 sequences and scores them by the misclassification error (the labels reach
-only the score).
+only the score); :func:`explain_errors` asks, sequence by sequence, whether a
+method's error is its objective's or its search's, against the annotated
+structures (an oracle: for the diagnosis, never for an estimator).
 """
 
 from __future__ import annotations
@@ -19,7 +21,8 @@ from ..segmenting import segment
 from ..spaces.fundamental import FundamentalSpace
 from ..spaces.homography import HomographySpace
 
-__all__ = ["SEGMENT_DEFAULTS", "SPACES", "evaluate_adelaidermf", "segment_matches"]
+__all__ = ["SEGMENT_DEFAULTS", "SPACES", "evaluate_adelaidermf", "explain_errors",
+           "segment_matches"]
 
 #: Space of each kind of match segmentation, built for the matches (hypotheses compared in
 #: the normalised frame of the matches; residuals and models in pixels).
@@ -146,6 +149,78 @@ def evaluate_adelaidermf(kind: str = "homography", methods=("clap",), *, thresho
                                                                          pair.truth.labels),
                      "models": res.n_models, "true_models": pair.truth.n_structures,
                      "seconds": seconds})
+    return rows
+
+
+def explain_errors(kind: str = "homography", *, threshold: float, seed: int = 0, names=None,
+                   options=None) -> list[dict]:
+    """Why the library's CLAP errs on each AdelaideRMF sequence: its objective or its search.
+
+    For each sequence, the library's CLAP (:func:`segment_matches`, method
+    ``"clap"``, with ``options``) and an **oracle**: the annotated structures,
+    each refitted on its own annotated matches, then the same finish
+    (:func:`~clap_unified.partition.finish_partition`: nearest model, refit,
+    spatial coherence, the same minimum support). The oracle's error is the
+    floor the finish leaves when the models are right. Both answers are
+    scored by CLAP's own objective, the label-cost energy
+    (:func:`~clap_unified.partition.label_cost_energy`): when CLAP's answer
+    has the lower energy, the objective prefers it to the truth and no better
+    search would repair it (``"objective"``); otherwise the search stopped
+    short (``"search"``). The labels serve the oracle and the score only;
+    CLAP never sees them.
+
+    Parameters
+    ----------
+    kind : {"homography", "fundamental"}
+    threshold : float
+    seed : int
+    names : sequence of str, optional
+        Sequences (default all present).
+    options : dict, optional
+        Options of :func:`segment_matches` for CLAP (e.g. ``label_cost``).
+
+    Returns
+    -------
+    list of dict
+        Per sequence: ``error`` and ``oracle_error`` (fractions), ``models``
+        and ``true_models``, ``energy`` and ``oracle_energy`` (in units of
+        ``threshold**2``), ``cause`` (``"objective"``, ``"search"``, or
+        ``"none"`` when CLAP is within a match of the oracle).
+    """
+    from ..partition import finish_partition, label_cost_energy
+    from ..segmenting import default_min_support
+    from .datasets.adelaidermf import adelaidermf_names, load_adelaidermf
+    from .segmentation_metrics import misclassification_error
+
+    kind = check_choice(kind, "kind", set(SPACES))
+    options = dict(options or {})
+    names = adelaidermf_names(kind) if names is None else list(names)
+    defaults = SEGMENT_DEFAULTS[kind]
+    coherence = options.get("coherence", defaults["coherence"])
+    rows = []
+    for name in names:
+        pair = load_adelaidermf(name, kind, images=False)
+        matches, truth = pair.input.matches, pair.truth.labels
+        res = segment_matches(matches, kind, "clap", threshold=threshold, rng=seed, **options)
+        space, data = res.space, np.asarray(matches, dtype=float)
+        min_support = default_min_support(space, len(data))
+        structures = [k for k in range(1, truth.max() + 1) if np.count_nonzero(truth == k)]
+        fitted = [space.refit(data[truth == k]) for k in structures]
+        oracle = np.array([m for m in fitted if m is not None]).reshape(-1, *space.model_shape)
+        oracle, oracle_labels, _ = finish_partition(
+            space, oracle, data, threshold, min_support, coherence=coherence,
+            coherence_neighbours=options.get("coherence_neighbours",
+                                             defaults["coherence_neighbours"]))
+        cost = options.get("label_cost", 1.0) * min_support * threshold ** 2
+        energy = label_cost_energy(space, res.models, data, threshold, cost) / threshold ** 2
+        floor = label_cost_energy(space, oracle, data, threshold, cost) / threshold ** 2
+        error = misclassification_error(res.labels, truth)
+        oracle_error = misclassification_error(oracle_labels, truth)
+        cause = ("none" if (error - oracle_error) * len(data) <= 1 else
+                 "objective" if energy <= floor else "search")
+        rows.append({"sequence": name, "error": error, "oracle_error": oracle_error,
+                     "models": res.n_models, "true_models": len(structures),
+                     "energy": energy, "oracle_energy": floor, "cause": cause})
     return rows
 
 
