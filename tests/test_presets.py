@@ -39,8 +39,7 @@ def same(a, b):
     assert (a.success, a.reason, a.n_inliers) == (b.success, b.reason, b.n_inliers)
     assert np.array_equal(a.model, b.model) and np.array_equal(a.inliers, b.inliers)
     assert np.array_equal(a.support, b.support) and a.score == b.score
-    assert len(a.clusters) == len(b.clusters)
-    for c, d in zip(a.clusters, b.clusters):
+    for c, d in zip(a.clusters, b.clusters, strict=True):
         assert (c.support, c.spread) == (d.support, d.spread)
         assert np.array_equal(c.model, d.model) and np.array_equal(c.members, d.members)
     assert repr(a.space) == repr(b.space) and a.threshold == b.threshold
