@@ -156,6 +156,7 @@ def fit(space, data, method: str = "clap", *, n_hypotheses: int | None = None,
     t0 = time.perf_counter()
     if not isinstance(space, HypothesisSpace):
         raise ValueError(f"space: expected a HypothesisSpace, got {type(space).__name__}")
+    strategy = get_strategy(method, space)
     given = {k: v for k, v in (("n_hypotheses", n_hypotheses), ("threshold", threshold),
                                ("refine", refine), ("max_hypotheses", max_hypotheses))
              if v is not None}
@@ -164,7 +165,6 @@ def fit(space, data, method: str = "clap", *, n_hypotheses: int | None = None,
     n_hypotheses = args.get("n_hypotheses", 1000)
     threshold, max_hypotheses = args.get("threshold"), args.get("max_hypotheses")
     refine = args.get("refine", True)
-    strategy = get_strategy(method, space)
     _check_options(strategy, options)
     problem = check_problem(space, data, threshold, prior, radius,
                             default_threshold=_strategy_threshold(strategy, options))
