@@ -45,13 +45,12 @@ Examples
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from types import MappingProxyType
 
 from .spaces.base import HypothesisSpace
 from .spaces.homography import DEFAULT_THRESHOLD, HomographySpace
 
-__all__ = ["FIT_KEYS", "PRESETS", "Preset", "get_preset", "preset_names", "protocol_presets",
-           "resolve_preset"]
+__all__ = ["FIT_KEYS", "PRESETS", "Preset", "Settings", "get_preset", "preset_names",
+           "protocol_presets", "resolve_preset"]
 
 #: Keys of a preset's ``fit`` part: :func:`~clap_unified.fit`'s own arguments.
 FIT_KEYS = ("n_hypotheses", "threshold", "max_hypotheses", "refine")
@@ -64,8 +63,31 @@ SPACE_KEYS = {"homography": {"frame": False, "metric": "lie_linear", "polish": F
                              "screen": 1.0}}
 
 
-def _frozen(mapping) -> MappingProxyType:
-    return MappingProxyType(dict(mapping))
+class Settings(dict):
+    """A preset's settings: a dict that refuses changes, and pickles (a process pool can
+    take it), unlike ``types.MappingProxyType``.
+
+    Examples
+    --------
+    >>> s = Settings(rounds=5)
+    >>> s["rounds"] = 3
+    Traceback (most recent call last):
+    ...
+    TypeError: read-only: a preset cannot change; use Preset.replace()
+    """
+
+    def _refuse(self, *args, **kwargs):
+        raise TypeError("read-only: a preset cannot change; use Preset.replace()")
+
+    __setitem__ = __delitem__ = _refuse
+    clear = pop = popitem = setdefault = update = __ior__ = _refuse
+
+    def __reduce__(self):
+        return (Settings, (dict(self),))
+
+
+def _frozen(mapping) -> Settings:
+    return Settings(mapping)
 
 
 @dataclass(frozen=True)
@@ -105,9 +127,9 @@ class Preset:
     name: str
     space_name: str
     strategy: str
-    space: MappingProxyType = field(default_factory=dict)
-    fit: MappingProxyType = field(default_factory=dict)
-    options: MappingProxyType = field(default_factory=dict)
+    space: Settings = field(default_factory=dict)
+    fit: Settings = field(default_factory=dict)
+    options: Settings = field(default_factory=dict)
     protocol: str | None = None
     aliases: tuple[str, ...] = ()
     summary: str = ""
@@ -234,8 +256,7 @@ def _homography_presets() -> tuple[Preset, ...]:
 #: Every preset, by ``(space name, strategy, preset name)``: the one home of the
 #: library's defaults. Protocol order (``"clap"``, ``"clap_paper"``...) is
 #: :data:`~clap_unified.imaging.estimate.PROTOCOLS`'s.
-PRESETS = MappingProxyType({(p.space_name, p.strategy, p.name): p
-                            for p in _homography_presets()})
+PRESETS = Settings({(p.space_name, p.strategy, p.name): p for p in _homography_presets()})
 
 #: The name of "no preset": the strategy's and :func:`~clap_unified.fit`'s own defaults.
 NONE = "none"

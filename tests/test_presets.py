@@ -3,6 +3,7 @@
 
 import dataclasses
 import json
+import pickle
 
 import numpy as np
 import pytest
@@ -134,8 +135,11 @@ def test_override_by_keyword_and_by_replace():
     assert paper.fit["n_hypotheses"] == 400 and paper.options["rounds"] == 5
     with pytest.raises(dataclasses.FrozenInstanceError):
         paper.name = "mine"
-    with pytest.raises(TypeError):
+    with pytest.raises(TypeError, match="Preset.replace"):
         paper.options["rounds"] = 1
+    # and it pickles (a process pool can take it), as the protocols do
+    assert pickle.loads(pickle.dumps(paper)) == paper
+    assert pickle.loads(pickle.dumps(PROTOCOLS)) == PROTOCOLS
 
 
 def test_explicit_budget_raises_the_adaptive_cap_and_hypotheses_drop_it():

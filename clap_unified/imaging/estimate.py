@@ -67,11 +67,9 @@ right.
 
 from __future__ import annotations
 
-from types import MappingProxyType
-
 from .._validation import check_points
 from ..fitting import fit
-from ..presets import Preset, protocol_presets
+from ..presets import Preset, Settings, protocol_presets
 from ..result import ConsensusResult
 from ..spaces.homography import DEFAULT_THRESHOLD, HomographySpace
 
@@ -87,12 +85,11 @@ __all__ = ["DEFAULT_PROTOCOL", "MIN_MATCHES", "PROTOCOLS", "clap_homography",
 #: reweighted DLT); every other key is an argument of :func:`~clap_unified.fit` or an
 #: option of the strategy. A read-only view: override a protocol with
 #: ``estimate_homography(..., **options)`` or ``Preset.replace``.
-PROTOCOLS = MappingProxyType({name: MappingProxyType(p.as_protocol())
-                              for name, p in protocol_presets(HomographySpace.name).items()})
+PROTOCOLS = Settings({name: Settings(p.as_protocol())
+                      for name, p in protocol_presets(HomographySpace.name).items()})
 
 #: The protocol of a registered homography strategy without an entry in :data:`PROTOCOLS`.
-DEFAULT_PROTOCOL = MappingProxyType({"frame": False, "polish": False,
-                                     "threshold": DEFAULT_THRESHOLD})
+DEFAULT_PROTOCOL = Settings({"frame": False, "polish": False, "threshold": DEFAULT_THRESHOLD})
 
 #: Matches below this count cannot give a homography worth reporting.
 MIN_MATCHES = 8
