@@ -154,6 +154,7 @@ def register(sub) -> None:
     line.add_argument("--threshold", type=float_option(), default=None,
                       help="inlier distance in data units (default 2%% of the data radius)")
     line.add_argument("--hypotheses", type=int_option(1, MAX_HYPOTHESES), default=1000,
+                      metavar="H",
                       help=f"hypotheses (CLAP) or trials (RANSAC); default 1000, at most "
                            f"{MAX_HYPOTHESES}, and hypotheses x points at most {MAX_WORK:.0e}")
     line.set_defaults(run=_fit_line)

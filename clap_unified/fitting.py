@@ -26,6 +26,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ._validation import as_generator, check_array, check_int, check_positive
+from .presets import resolve_preset
 from .registry import get_strategy
 from .result import ConsensusResult
 from .spaces.base import HypothesisSet, HypothesisSpace
@@ -41,10 +42,10 @@ ALL_INLIER_SAMPLES = 5
 COMMON = ("threshold", "prior", "radius", "rng", "n_hypotheses")
 
 
-def fit(space, data, method: str = "clap", *, n_hypotheses: int = 1000,
+def fit(space, data, method: str = "clap", *, n_hypotheses: int | None = None,
         threshold: float | None = None, rng=None, hypotheses: HypothesisSet | None = None,
-        prior=None, radius=None, refine: bool = True, sampling: dict | None = None,
-        max_hypotheses: int | None = None, **options) -> ConsensusResult:
+        prior=None, radius=None, refine: bool | None = None, sampling: dict | None = None,
+        max_hypotheses: int | None = None, preset=None, **options) -> ConsensusResult:
     """Robust estimate of one model of ``space`` from ``data`` by the strategy ``method``.
 
     Parameters
@@ -57,11 +58,13 @@ def fit(space, data, method: str = "clap", *, n_hypotheses: int = 1000,
         A registered strategy (:func:`~clap_unified.registry.strategy_names`):
         ``"clap"``, ``"ransac"``, ``"randomized_hough"``, and, where they
         apply, ``"hough"`` (lines), OpenCV's and Open3D's estimators.
-    n_hypotheses : int
+    n_hypotheses : int, optional
         The hypothesis budget: hypotheses generated (CLAP, randomized Hough),
-        minimal samples drawn or hypotheses scored (RANSAC).
+        minimal samples drawn or hypotheses scored (RANSAC). Default the
+        preset's, else 1000.
     threshold : float, optional
-        Inlier threshold in data units; default the space's (or strategy's).
+        Inlier threshold in data units; default the preset's, else the
+        space's (or strategy's).
     rng : None, int or numpy.random.Generator
         The seed: the same seed gives the same result, bit for bit.
     hypotheses : HypothesisSet, optional
@@ -74,9 +77,9 @@ def fit(space, data, method: str = "clap", *, n_hypotheses: int = 1000,
         association the prior implies.
     radius : float (or what the space's ``near_prior`` accepts), optional
         The gate around ``prior``; required with it.
-    refine : bool
+    refine : bool, optional
         Refine the consensus model on its data inliers (``space.refine``)
-        before the result is built.
+        before the result is built. Default the preset's, else ``True``.
     sampling : dict, optional
         Space-specific options of hypothesis generation (e.g. ``quality`` of
         homography matches for progressive sampling).
@@ -91,10 +94,24 @@ def fit(space, data, method: str = "clap", *, n_hypotheses: int = 1000,
         with more inliers is returned (``diagnostics["adaptive_hypotheses"]``:
         the second budget, or ``n_hypotheses`` when one fit was enough). The
         counterpart of RANSAC's adaptive stopping for a strategy that needs
-        several right hypotheses, not one.
+        several right hypotheses, not one. Default the preset's (raised to
+        ``n_hypotheses`` when that is larger; none with ``hypotheses``), else
+        none.
+    preset : str or Preset, optional
+        The defaults this call starts from (:mod:`~clap_unified.presets`):
+        ``"default"`` (the library's best), ``"paper"`` (the paper's
+        protocol), ``"none"`` (the strategy's own defaults), a protocol name
+        (``"clap_paper"``...) or a :class:`~clap_unified.presets.Preset`.
+        ``None``: ``"default"`` when ``space`` is plain (e.g.
+        ``HomographySpace()``), else ``"none"``. A preset builds its space
+        from a plain space (homographies: in the frame of the matches, its
+        metric and polish); a space configured by hand is used as given. Every
+        argument passed explicitly, and every option, overrides the preset.
     **options
         The strategy's own options (e.g. ``bandwidth`` for CLAP,
-        ``cell_size`` for randomized Hough, ``score`` for RANSAC).
+        ``cell_size`` for randomized Hough, ``score`` for RANSAC); with a
+        preset on a plain space, also the preset's space settings
+        (homographies: ``frame``, ``metric``, ``polish``, ``screen``).
 
     Returns
     -------
@@ -121,11 +138,33 @@ def fit(space, data, method: str = "clap", *, n_hypotheses: int = 1000,
     (True, True)
     >>> fit(LineSpace(), pts, "ransac", threshold=0.05, rng=0).n_inliers >= 40
     True
+
+    On homographies the plain space gets the library's tuned CLAP, the same
+    as :func:`~clap_unified.imaging.estimate_homography`; ``preset="paper"``
+    the paper's protocol:
+
+    >>> from clap_unified.spaces import HomographySpace
+    >>> src = rng.uniform(0, 640, (100, 2))
+    >>> m = np.c_[src, src + [30.0, -20.0] + rng.normal(0, 0.5, (100, 2))]
+    >>> m[:40, 2:] = rng.uniform(0, 640, (40, 2))            # 40 % outliers
+    >>> res = fit(HomographySpace(), m, "clap", rng=0)
+    >>> res.success, res.space.polish, np.round(res.model[:2, 2]).tolist()
+    (True, 2.0, [30.0, -20.0])
+    >>> fit(HomographySpace(), m, "clap", rng=0, preset="paper").diagnostics["hypotheses"]
+    400
     """
     t0 = time.perf_counter()
     if not isinstance(space, HypothesisSpace):
         raise ValueError(f"space: expected a HypothesisSpace, got {type(space).__name__}")
     strategy = get_strategy(method, space)
+    given = {k: v for k, v in (("n_hypotheses", n_hypotheses), ("threshold", threshold),
+                               ("refine", refine), ("max_hypotheses", max_hypotheses))
+             if v is not None}
+    space, args, options = resolve_preset(space, data, method, preset, given, options,
+                                          hypotheses_given=hypotheses is not None)
+    n_hypotheses = args.get("n_hypotheses", 1000)
+    threshold, max_hypotheses = args.get("threshold"), args.get("max_hypotheses")
+    refine = args.get("refine", True)
     _check_options(strategy, options)
     problem = check_problem(space, data, threshold, prior, radius,
                             default_threshold=_strategy_threshold(strategy, options))
@@ -389,7 +428,7 @@ def _check_options(strategy, options) -> None:
             raise ValueError(f"{key}: not an option of the {strategy.name!r} strategy "
                              f"(its options: {', '.join(own) or 'none'}; fit's own: "
                              f"n_hypotheses, threshold, rng, hypotheses, prior, radius, "
-                             f"refine, sampling)")
+                             f"refine, sampling, max_hypotheses, preset)")
 
 
 def compare(space, data, *, methods=("randomized_hough", "ransac", "clap"),
@@ -397,6 +436,10 @@ def compare(space, data, *, methods=("randomized_hough", "ransac", "clap"),
             options: dict | None = None, sampling: dict | None = None
             ) -> dict[str, ConsensusResult]:
     """Run several strategies through :func:`fit` on the *same* hypotheses, drawn once.
+
+    Each strategy runs with its own defaults (``preset="none"``, no preset of
+    :mod:`~clap_unified.presets`), on the space as given: the strategies differ
+    only in how they reach consensus.
 
     Parameters
     ----------
@@ -449,7 +492,7 @@ def compare(space, data, *, methods=("randomized_hough", "ransac", "clap"),
     out = {}
     for s in strategies:
         res = fit(space, data, s.name, n_hypotheses=n_hypotheses, threshold=threshold,
-                  hypotheses=hyps if s.uses_hypotheses else None, rng=rng,
+                  hypotheses=hyps if s.uses_hypotheses else None, rng=rng, preset="none",
                   **options.get(s.name, {}))
         out[s.name] = res.replace(diagnostics={"generation_seconds": gen})
     return out

@@ -60,8 +60,9 @@ def test_every_estimating_command_has_the_option(argv):
     assert str(MAX_HYPOTHESES) in action.help
     if argv[0] != "segment":  # segment has its own, smaller work limit
         assert "hypotheses x " in action.help and f"{MAX_WORK:.0e}" in action.help
+    assert action.metavar == "H"  # one spelling in every command's usage line
     if argv != ["fit", "line"]:  # fit line's default is its budget itself
-        assert action.metavar == "H" and action.default is None
+        assert action.default is None
 
 
 @pytest.mark.parametrize("value", ["0", "-3", "2.5", str(MAX_HYPOTHESES + 1)])
@@ -227,3 +228,60 @@ def test_cli_and_library_agree(hard_matches, capsys, method, seed):
     assert code == (0 if lib["success"] else 1)
     assert (d["success"], d["reason"], d["inliers"], d["model"]) == \
         (lib["success"], lib["reason"], lib["inliers"], lib["model"])
+
+
+def _spy_budgets(monkeypatch, cls):
+    """Record the ``n`` of every ``cls.hypotheses(data, n, ...)`` call (the budget that
+    reached ``fit`` or ``segment``), the call itself unchanged."""
+    calls, original = [], cls.hypotheses
+
+    def hypotheses(self, data, n, *args, **kwargs):
+        calls.append(int(n))
+        return original(self, data, n, *args, **kwargs)
+
+    monkeypatch.setattr(cls, "hypotheses", hypotheses)
+    return calls
+
+
+def _budget_data(kind, path):
+    rng = np.random.default_rng(0)
+    if kind in ("line", "circle"):
+        t = rng.uniform(0, 2 * np.pi, 60)
+        rows = (np.c_[t, 0.5 * t + 1] if kind == "line" else np.c_[np.cos(t), np.sin(t)] * 3)
+        rows = np.r_[rows, rng.uniform(-3, 6, (20, 2))]
+    elif kind == "homography":
+        m = ten_percent_inliers(1)[0]
+        rows = np.r_[m[:60], m[N_INLIERS:N_INLIERS + 15]]  # 60 inliers among 75
+    else:
+        from clap_unified.imaging.datasets import synthetic_two_view
+
+        rows = synthetic_two_view(120, outliers=0.2, noise=0.3, rng=0).input.matches
+    np.savetxt(path, rows, delimiter=",")
+    return path
+
+
+@pytest.mark.parametrize("argv,kind,space", [
+    (["fit", "line"], "line", "LineSpace"),
+    (["fit", "homography", "--method", "clap"], "homography", "HomographySpace"),
+    (["fit", "homography", "--method", "clap_paper"], "homography", "HomographySpace"),
+    (["fit", "homography", "--method", "randomized_hough"], "homography", "HomographySpace"),
+    (["segment", "line"], "line", "LineSpace"),
+    (["segment", "circle"], "circle", "CircleSpace"),
+    (["segment", "homography"], "homography", "HomographySpace"),
+    (["segment", "fundamental"], "fundamental", "FundamentalSpace")])
+def test_the_budget_reaches_fit(tmp_path, capsys, monkeypatch, argv, kind, space):
+    """``--hypotheses H`` is the number of hypotheses the command's fit (or segment) draws
+    first, for every command that draws them; without it, the command's default (the
+    preset's, for ``fit homography``) is drawn instead."""
+    import clap_unified.spaces as spaces
+
+    calls = _spy_budgets(monkeypatch, getattr(spaces, space))
+    f = _budget_data(kind, tmp_path / "data.csv")
+    code, out, err = run([*argv[:2], f, *argv[2:], "--seed", 1, "--hypotheses", 123], capsys)
+    assert code in (0, 1) and err == "" and calls and calls[0] == 123
+    calls.clear()
+    run([*argv[:2], f, *argv[2:], "--seed", 1], capsys)
+    assert calls and calls[0] != 123
+    if argv[:2] == ["fit", "homography"]:
+        method = argv[-1]
+        assert calls[0] == PROTOCOLS[method]["n_hypotheses"]

@@ -41,8 +41,8 @@ FLOORS = [
     ["spaces"],
     # The result types every strategy returns.
     ["result"],
-    # The strategy registry and ``fit``, below the strategies that register.
-    ["registry", "fitting", "segmenting"],
+    # The strategy registry, the presets and ``fit``, below the strategies that register.
+    ["registry", "presets", "fitting", "segmenting"],
     # Strategies (``external``: other libraries' estimators as strategies; the
     # side-by-side ``compare`` while it exists).
     ["hough", "ransac", "clap", "preference", "external", "compare"],

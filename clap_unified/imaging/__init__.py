@@ -2,7 +2,8 @@
 
 * :mod:`.estimate`: :func:`estimate_homography`, :func:`~clap_unified.fit`
   in a :class:`~clap_unified.spaces.HomographySpace` with each method's
-  protocol (:data:`PROTOCOLS`): CLAP (the paper's), the library's DLT +
+  protocol (:data:`PROTOCOLS`, derived from the presets of
+  :mod:`clap_unified.presets`): CLAP (the library's and the paper's), DLT +
   RANSAC, a randomized Hough on CLAP's candidates and OpenCV's estimators
   (:mod:`clap_unified.external.opencv`) on the same matches;
 * the reweighted-DLT polish (the library's default CLAP, and ``"clap_densest"``)

@@ -26,7 +26,7 @@ import numpy as np
 
 from ..io import MAX_HYPOTHESES, MAX_WORK, check_budget, float_option, int_option, read_points_csv
 from ..result import ConsensusResult
-from ..spaces.homography import HomographySpace
+from ..spaces.homography import DEFAULT_THRESHOLD, HomographySpace
 from .estimate import MIN_MATCHES, PROTOCOLS, estimate_homography, method_names
 
 __all__ = ["MAX_IMAGE_PIXELS", "MAX_MATCHES", "add_fit_homography", "fit_homography_command",
@@ -124,8 +124,8 @@ def add_fit_homography(kinds) -> None:
                         "rows)")
     p.add_argument("--method", choices=METHODS, default="clap", help=_METHOD_HELP)
     p.add_argument("--seed", type=int_option(), default=0, help="random seed (default 0)")
-    p.add_argument("--threshold", type=float_option(), default=3.0,
-                   help="inlier reprojection error in pixels (default 3)")
+    p.add_argument("--threshold", type=float_option(), default=DEFAULT_THRESHOLD,
+                   help=f"inlier reprojection error in pixels (default {DEFAULT_THRESHOLD:g})")
     _add_hypotheses(p)
     p.set_defaults(run=fit_homography_command)
 

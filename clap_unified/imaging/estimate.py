@@ -1,10 +1,14 @@
 """Homography from point matches: :func:`~clap_unified.fit` with named protocols.
 
 :func:`estimate_homography` is a thin application of :func:`~clap_unified.fit`:
-it builds the :class:`~clap_unified.spaces.HomographySpace` a method's
-protocol asks for and fits in it. The protocols, one dict per method name
-in :data:`PROTOCOLS` (read generically; a registered strategy without one
-gets :data:`DEFAULT_PROTOCOL`):
+it fits in a plain :class:`~clap_unified.spaces.HomographySpace` with the
+method's preset (:mod:`clap_unified.presets`, the one home of these
+defaults), which builds the space the protocol asks for. The protocols, one
+dict per method name in :data:`PROTOCOLS` (derived from the presets; a
+registered strategy without one gets :data:`DEFAULT_PROTOCOL`).
+``estimate_homography(matches, "clap")`` is ``fit(HomographySpace(), matches,
+"clap")``, bit for bit, and ``"clap_paper"`` is ``fit(..., "clap",
+preset="paper")``:
 
 * ``"clap"`` (the library's default CLAP): 1000 candidate homographies from
   random 4-match samples, compared by where they send five anchors of the
@@ -52,7 +56,8 @@ gets :data:`DEFAULT_PROTOCOL`):
   defaults (at least 1000 and at most 100000 iterations, confidence 0.9999:
   what a user calling them gets), seeded from ``rng``.
 
-Every protocol uses the inlier threshold of 3 px. ``quality`` (lower is
+Every protocol uses the inlier threshold of
+:data:`~clap_unified.spaces.homography.DEFAULT_THRESHOLD` (3 px). ``quality`` (lower is
 better, e.g. the SIFT ratio of each match) makes the samples progressive, as
 in PROSAC (:meth:`HomographySpace.hypotheses`): the first candidates are
 drawn from the best few matches, later ones from more and more of them. That
@@ -64,52 +69,30 @@ from __future__ import annotations
 
 from .._validation import check_points
 from ..fitting import fit
+from ..presets import Preset, Settings, protocol_presets
 from ..result import ConsensusResult
-from ..spaces.homography import HomographySpace
+from ..spaces.homography import DEFAULT_THRESHOLD, HomographySpace
 
 __all__ = ["DEFAULT_PROTOCOL", "MIN_MATCHES", "PROTOCOLS", "clap_homography",
            "estimate_homography", "method_names", "ransac_homography", "strategy_of"]
 
-#: Per method name, the defaults of :func:`estimate_homography`. Keys:
-#: ``strategy`` (the registered strategy a protocol of another name runs;
+#: Per method name, the defaults of :func:`estimate_homography`, derived from the
+#: presets of :mod:`clap_unified.presets` (their one home: change a default there).
+#: Keys: ``strategy`` (the registered strategy a protocol of another name runs;
 #: default: the method name itself), ``frame`` (compare hypotheses in a frame
 #: of the matches, :meth:`HomographySpace.for_data`), ``metric`` and
 #: ``screen`` (its distance), ``polish`` (the space's refinement ends with the
 #: reweighted DLT); every other key is an argument of :func:`~clap_unified.fit` or an
-#: option of the strategy.
-PROTOCOLS = {
-    "clap": {"frame": True, "metric": "transfer", "polish": 2.0, "n_hypotheses": 1000,
-             "threshold": 3.0, "density": "knn", "k": 2, "bandwidth": 3.0, "suppress": 3.0,
-             "rounds": 0, "max_clusters": 16, "min_support": 1, "select": "consensus",
-             "n_refine": 3, "max_hypotheses": 10_000},
-    "clap_paper": {"strategy": "clap", "frame": True, "metric": "lie", "polish": False,
-                   "n_hypotheses": 400, "threshold": 3.0, "neighbourhood": "all",
-                   "rounds": 5, "discard_fraction": 0.2, "bandwidth_quantile": 0.02},
-    "clap_densest": {"strategy": "clap", "frame": True, "metric": "lie_linear", "polish": True,
-                     "n_hypotheses": 400, "threshold": 3.0, "bandwidth_quantile": 0.02,
-                     "rounds": 5, "discard_fraction": 0.2},
-    "ransac": {"frame": False, "polish": False, "n_hypotheses": 1000, "threshold": 3.0},
-    "randomized_hough": {"frame": True, "metric": "lie_linear", "polish": False,
-                         "n_hypotheses": 400, "threshold": 3.0, "cell_size": 0.05},
-    "cv2_ransac": {"frame": False, "refine": False, "n_hypotheses": 1000, "threshold": 3.0},
-    "magsac": {"frame": False, "refine": False, "n_hypotheses": 1000, "threshold": 3.0},
-    "usac_accurate": {"frame": False, "refine": False, "n_hypotheses": 1000, "threshold": 3.0},
-    "usac_ransac_fixed": {"frame": False, "refine": False, "n_hypotheses": 1000,
-                          "threshold": 3.0},
-    "poselib": {"frame": False, "refine": False, "n_hypotheses": 100_000, "threshold": 3.0,
-                "confidence": 0.9999, "min_iterations": 1000},
-    "colmap": {"frame": False, "refine": False, "n_hypotheses": 100_000, "threshold": 3.0,
-               "confidence": 0.9999, "min_iterations": 1000},
-}
+#: option of the strategy. A read-only view: override a protocol with
+#: ``estimate_homography(..., **options)`` or ``Preset.replace``.
+PROTOCOLS = Settings({name: Settings(p.as_protocol())
+                      for name, p in protocol_presets(HomographySpace.name).items()})
 
 #: The protocol of a registered homography strategy without an entry in :data:`PROTOCOLS`.
-DEFAULT_PROTOCOL = {"frame": False, "polish": False, "threshold": 3.0}
+DEFAULT_PROTOCOL = Settings({"frame": False, "polish": False, "threshold": DEFAULT_THRESHOLD})
 
 #: Matches below this count cannot give a homography worth reporting.
 MIN_MATCHES = 8
-
-#: Protocol keys that choose the space, not arguments of :func:`~clap_unified.fit`.
-_SPACE_KEYS = {"frame": False, "metric": "lie_linear", "polish": False, "screen": 1.0}
 
 
 def method_names() -> tuple[str, ...]:
@@ -192,19 +175,16 @@ def estimate_homography(matches, method: str = "clap", *, rng=None, quality=None
     if len(data) < MIN_MATCHES:
         raise ValueError(f"matches: too few matches ({len(data)}); at least {MIN_MATCHES} "
                          "are needed for a robust homography")
-    settings = {**_SPACE_KEYS, **PROTOCOLS.get(method, DEFAULT_PROTOCOL), **options}
-    strategy = settings.pop("strategy", method)
-    if "max_hypotheses" not in options and settings.get("max_hypotheses") is not None:
-        if "hypotheses" in options:
-            settings.pop("max_hypotheses")  # given hypotheses: nothing more to draw
-        elif "n_hypotheses" in options:  # a budget above the protocol's cap raises the cap
-            settings["max_hypotheses"] = max(settings["max_hypotheses"],
-                                             int(options["n_hypotheses"]))
-    frame, metric, polish, screen = (settings.pop(k) for k in _SPACE_KEYS)
-    space = (HomographySpace.for_data(data, metric=metric, polish=polish, screen=screen)
-             if frame else HomographySpace(polish=polish))
+    protocol = protocol_presets(HomographySpace.name).get(method)
+    if protocol is None:  # a registered strategy without a protocol of its own
+        protocol = Preset("default", HomographySpace.name, method).replace(**DEFAULT_PROTOCOL)
+    if "max_hypotheses" in options and options["max_hypotheses"] is None:
+        options = dict(options)  # no adaptive budget, whatever the protocol's
+        protocol = protocol.replace(max_hypotheses=options.pop("max_hypotheses"))
+    strategy = protocol.strategy
     sampling = None if quality is None else {"quality": quality}
-    res = fit(space, data, strategy, rng=rng, sampling=sampling, **settings)
+    res = fit(HomographySpace(), data, strategy, rng=rng, sampling=sampling, preset=protocol,
+              **options)
     return res if strategy == method else res.replace(method=method)
 
 

@@ -22,6 +22,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..registry import get_strategy
+from ..spaces.homography import DEFAULT_THRESHOLD
 from .datasets.homography_benchmarks import HomographyInput, HomographyTruth
 from .estimate import estimate_homography, strategy_of
 from .metrics import corner_error, lie_error, symmetric_reprojection_error
@@ -299,7 +300,7 @@ def evaluate_pair(pair, *, size=None, methods=None, seed: int = 0, repeat: int =
         H = res.model if res.success else None
         if H is not None and gt_inliers.any():
             e = symmetric_reprojection_error(H, m)[gt_inliers]
-            recall = float(np.mean(e < 3.0))
+            recall = float(np.mean(e < DEFAULT_THRESHOLD))
             sre = float(np.median(e))
         elif H is not None:
             recall, sre = float("nan"), float("nan")
@@ -466,7 +467,8 @@ def vpg_pair_matches(vpg_set, *, ratio: float = 0.75) -> list[PairMatches]:
         truth = None
         if (i, j) in vpg_set.truth.correspondences:
             H = vpg_set.truth.H(i, j)
-            inliers = symmetric_reprojection_error(H, m) < 3.0 if len(m) else np.zeros(0, bool)
+            inliers = (symmetric_reprojection_error(H, m) < DEFAULT_THRESHOLD if len(m)
+                       else np.zeros(0, bool))
             truth = HomographyTruth(H, inliers, vpg_set.truth.correspondences[(i, j)])
         out.append(PairMatches(vpg_set.name, (i, j), inp, truth))
     return out

@@ -41,6 +41,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..spaces.homography import DEFAULT_THRESHOLD
 from .progress import progress
 from .registry import experiment, finite_or_none
 
@@ -49,8 +50,9 @@ from .registry import experiment, finite_or_none
 METHODS = {"CLAP": ("clap_paper", False), "RANSAC": ("ransac", False),
            "MAGSAC++": ("magsac", False)}
 COLORS = {"CLAP": "C3", "RANSAC": "C0", "MAGSAC++": "C2", "CLAP ordered": "C1"}
-#: Inlier threshold, pixels of symmetric reprojection error.
-THRESHOLD = 3.0
+#: Inlier threshold, pixels of symmetric reprojection error: the homography presets' one
+#: threshold (:data:`~clap_unified.spaces.homography.DEFAULT_THRESHOLD`).
+THRESHOLD = DEFAULT_THRESHOLD
 #: The primary numbers' protocol, in one line.
 PROTOCOL = ("the paper's, as written: CLAP = 400 DLT candidates from random 4-match samples, "
             "distance ||log(H1^-1 H2)||_F, the medoid of all candidates then 5 rounds each "
@@ -197,8 +199,13 @@ def _close(a, b) -> bool:
     return abs(a - b) <= 1e-9 * max(1.0, abs(b))
 
 
-def _all_inlier_numbers(ratios, n_clap: int = 400, n_ransac: int = 1000) -> dict:
-    """Expected all-inlier 4-samples ``n w^4`` of each budget over the pairs' inlier ratios."""
+def _all_inlier_numbers(ratios, n_clap: int | None = None, n_ransac: int | None = None) -> dict:
+    """Expected all-inlier 4-samples ``n w^4`` of each budget over the pairs' inlier ratios;
+    default budgets: the paper's presets' (``clap_paper``, ``ransac``)."""
+    from ..imaging.estimate import PROTOCOLS
+
+    n_clap = PROTOCOLS["clap_paper"]["n_hypotheses"] if n_clap is None else n_clap
+    n_ransac = PROTOCOLS["ransac"]["n_hypotheses"] if n_ransac is None else n_ransac
     w4 = np.asarray(ratios, float) ** 4
     out = {}
     for label, n in (("CLAP", n_clap), ("RANSAC", n_ransac)):

@@ -46,7 +46,12 @@ from ..refine import refit_on_inliers
 from . import homography_compiled
 from .base import HypothesisSet, HypothesisSpace
 
-__all__ = ["HomographySpace"]
+__all__ = ["DEFAULT_THRESHOLD", "HomographySpace"]
+
+#: The inlier threshold of homographies, in pixels (OpenCV's default
+#: ``ransacReprojThreshold``): the space's default and every preset's
+#: (:mod:`clap_unified.presets`).
+DEFAULT_THRESHOLD = 3.0
 
 class _NewSamples:
     """The samples of each batch never taken before, in order, up to a count.
@@ -135,6 +140,7 @@ class HomographySpace(HypothesisSpace):
             polish = float(polish)
         self.polish = polish
         self._manifold = None
+        self._framed = False  # for_data / for_images set their own manifold
 
     @classmethod
     def for_data(cls, matches, *, residual: str = "transfer", metric: str = "lie_linear",
@@ -174,10 +180,12 @@ class HomographySpace(HypothesisSpace):
             from ..geometry.homography_transfer import HomographyTransfer, region_anchors
 
             space._manifold = HomographyTransfer(region_anchors(data[:, :2]))
+            space._framed = True
             return space
         T1, T2 = normalise_points(data.reshape(-1, 2, 2).transpose(1, 0, 2))[1]
         space._manifold = HomographyInFrame(T1, T2, metric=metric, normalization=normalization,
                                             screen=screen)
+        space._framed = True
         return space
 
     @classmethod
@@ -207,7 +215,28 @@ class HomographySpace(HypothesisSpace):
         space._manifold = HomographyInFrame(frame(size1, "size1"), frame(size2, "size2"),
                                             metric=metric, normalization=normalization,
                                             screen=screen)
+        space._framed = True
         return space
+
+    @property
+    def is_plain(self) -> bool:
+        """Built as ``HomographySpace()``: every constructor default, no frame.
+
+        :func:`~clap_unified.fit` builds the space a preset asks for
+        (:mod:`~clap_unified.presets`) from a plain space only; a space
+        configured by hand is used as given.
+
+        Examples
+        --------
+        >>> HomographySpace().is_plain, HomographySpace(polish=True).is_plain
+        (True, False)
+        >>> src = np.random.default_rng(0).uniform(0, 640, (20, 2))
+        >>> HomographySpace.for_data(np.c_[src, src + 1.0]).is_plain
+        False
+        """
+        return (type(self) is HomographySpace and not self._framed
+                and self.residual == "transfer" and self.normalization == "h33"
+                and self.polish is False)
 
     def __repr__(self) -> str:
         return (f"HomographySpace(residual={self.residual!r}, "
@@ -310,7 +339,7 @@ class HomographySpace(HypothesisSpace):
         return {"H": scale_homography(model).tolist()}
 
     def default_threshold(self, data) -> float:
-        return 3.0  # pixels, OpenCV's default ransacReprojThreshold
+        return DEFAULT_THRESHOLD
 
     def default_cell_size(self, data) -> float:
         """Randomized Hough cell edge: 0.05 in the space's (normalised-frame) log chart."""
