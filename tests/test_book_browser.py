@@ -165,20 +165,22 @@ def test_every_figure_loads_with_number_caption_and_alt(page, chapter):
 
 
 def test_figures_are_shrunk_to_the_column_the_legend_check_assumes(page):
-    from test_book_figures import COLUMN_PX, rendered_px
+    from test_book_figures import COLUMN_PX, FOLDED_COLUMN_PX
 
     shown = [img for c in CHAPTERS for img in page(f"chapters/{c}")["images"]
              if img["rendered"] > 0]
     assert shown, "no figure drawn on any page"
-    column = max(img["rendered"] for img in shown)
     # the widest figures fill the column: its width is what the static check assumes
-    assert abs(column - COLUMN_PX) <= 0.03 * COLUMN_PX, (column, COLUMN_PX)
-    for img in shown:
-        assert img["rendered"] <= min(img["width"], column) + 1, img["src"]
-        # the static check's arithmetic is the page's: a figure shrunk to the column
-        scale = img["rendered"] / img["width"]
-        assert rendered_px(9, 100, img["width"], column=column) == pytest.approx(
-            9 * 100 / 72 * min(1.0, scale), rel=0.01), img["src"]
+    column = max(img["rendered"] for img in shown)
+    assert abs(column - COLUMN_PX) <= 1, (column, COLUMN_PX)
+    shrunk = [img for img in shown if img["width"] > img["rendered"] + 1]
+    assert shrunk, "no figure wider than the column"
+    # a figure wider than its column (the page's, or a folded cell's) is drawn at that
+    # column's width, never narrower than the static check assumes (a narrower figure may be
+    # enlarged, which only enlarges its text: the static check takes no credit for that)
+    for img in shrunk:
+        assert FOLDED_COLUMN_PX - 1 <= img["rendered"] <= COLUMN_PX + 1, (
+            img["src"], img["rendered"])
 
 
 def test_reference_pages_exist_and_are_linked(page):

@@ -136,6 +136,9 @@ def uncited_glue(notebooks: dict[str, dict], pages: list[str]) -> list[str]:
     cited = set()
     texts = list(pages) + [_text(c["source"]) for nb in notebooks.values()
                            for c in nb["cells"] if c["cell_type"] == "markdown"]
+    # a figure's caption (``mystnb: figure: caption``) cites from its cell's metadata
+    texts += [json.dumps(c.get("metadata", {})) for nb in notebooks.values()
+              for c in nb["cells"]]
     for text in texts:
         cited |= {m.group(1).split("::")[-1].split(":")[0].strip()
                   for m in CITATION.finditer(text)}
@@ -162,6 +165,10 @@ def test_an_uncited_glued_number_fails():
                     _cell("keep()", [_glued("a"), _glued("b"), _glued("c")])]}
     assert uncited_glue({"ch.ipynb": nb}, []) == ["ch.ipynb: c"]
     assert uncited_glue({"ch.ipynb": nb}, ["{glue:md}`c`"]) == []
+    figure = _cell("plt.show()")
+    figure["metadata"]["mystnb"] = {"figure": {"caption": "error {glue:text}`c:.2f` px"}}
+    nb["cells"].append(figure)
+    assert uncited_glue({"ch.ipynb": nb}, []) == []
 
 
 def _toc_chapters() -> list[str]:

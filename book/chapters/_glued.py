@@ -2,7 +2,8 @@
 
 The chapters compute their numbers in loops (one per method, per ratio, per data set); the
 prose cites a few of them. ``glue`` here is myst-nb's, skipping the names that no page cites
-(``{glue:text}`name``` or ``{glue:md}`name``` in a chapter's text or in a page of the book),
+(``{glue:text}`name``` or ``{glue:md}`name``` in a chapter's text, a figure's caption or a page
+of the book),
 so that a chapter's stored outputs hold only the numbers a reader sees.
 ``tests/test_chapter_pages.py`` fails on a glued name that no page cites.
 """
@@ -34,6 +35,8 @@ def book_citations(book: Path = BOOK) -> frozenset[str]:
             names |= cited_names(path.read_text(encoding="utf-8"))
     for path in sorted((book / "chapters").glob("*.ipynb")):
         for cell in json.loads(path.read_text(encoding="utf-8"))["cells"]:
+            # a figure's caption lives in its code cell's metadata (``mystnb: figure: caption``)
+            names |= cited_names(json.dumps(cell.get("metadata", {})))
             if cell["cell_type"] == "markdown":
                 source = cell["source"]
                 names |= cited_names("".join(source) if isinstance(source, list) else source)
