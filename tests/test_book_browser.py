@@ -6,7 +6,9 @@ the book is not built or when no Chromium and chromedriver are installed.
 Each chapter page is loaded once from a local HTTP server; one script collects what the
 tests check: that MathJax (served by the book itself, no network) typeset every formula and
 no raw TeX delimiters are left in the visible text, that every figure's image loaded and has
-alt text, a number and a caption, and that the reference pages exist and are linked.
+alt text, a number and a caption, that figures are drawn at most as wide as the text column
+that ``tests/test_book_figures.py`` assumes when it checks the legend text of every figure for
+its size on the page, and that the reference pages exist and are linked.
 """
 
 from __future__ import annotations
@@ -46,6 +48,8 @@ const collect = () => {
     const cap = fig ? fig.querySelector('figcaption') : null;
     return {src: img.getAttribute('src'), complete: img.complete,
             width: img.naturalWidth, alt: img.getAttribute('alt') || '',
+            // the width the page draws it at (0 in a folded cell)
+            rendered: img.getBoundingClientRect().width,
             // textContent, not innerText: a figure in a folded cell (an exercise's
             // solution) has its number and caption in the page, hidden until unfolded
             number: cap && cap.querySelector('.caption-number')
@@ -158,6 +162,25 @@ def test_every_figure_loads_with_number_caption_and_alt(page, chapter):
         assert img["alt"].strip(), f"no alt text: {img['src']}"
         assert img["number"].startswith("Fig."), f"not a numbered figure: {img['src']}"
         assert len(img["caption"]) > len(img["number"]) + 20, f"no caption: {img['src']}"
+
+
+def test_figures_are_shrunk_to_the_column_the_legend_check_assumes(page):
+    from test_book_figures import COLUMN_PX, FOLDED_COLUMN_PX
+
+    shown = [img for c in CHAPTERS for img in page(f"chapters/{c}")["images"]
+             if img["rendered"] > 0]
+    assert shown, "no figure drawn on any page"
+    # the widest figures fill the column: its width is what the static check assumes
+    column = max(img["rendered"] for img in shown)
+    assert abs(column - COLUMN_PX) <= 1, (column, COLUMN_PX)
+    shrunk = [img for img in shown if img["width"] > img["rendered"] + 1]
+    assert shrunk, "no figure wider than the column"
+    # a figure wider than its column (the page's, or a folded cell's) is drawn at that
+    # column's width, never narrower than the static check assumes (a narrower figure may be
+    # enlarged, which only enlarges its text: the static check takes no credit for that)
+    for img in shrunk:
+        assert FOLDED_COLUMN_PX - 1 <= img["rendered"] <= COLUMN_PX + 1, (
+            img["src"], img["rendered"])
 
 
 def test_reference_pages_exist_and_are_linked(page):

@@ -10,7 +10,12 @@ ones nbval compares and the book shows) and fails on
 * ``stderr`` output containing ``Warning``: warnings are fixed at their cause;
 * a ``text/plain`` result with no richer form beside it that is a bare object repr
   (``Text(...)``, ``<matplotlib...>``, ``<Figure ...>``): a plotting cell's last value
-  leaking onto the page.
+  leaking onto the page;
+* a visible code cell that glues numbers for the prose (``glue(...)`` or the chapters'
+  ``keep(...)``): bookkeeping belongs in hidden cells.
+
+A last check reads the whole book: every number a chapter glues is cited by some page
+(``{glue:text}`name```), so the stored outputs hold no number nobody reads.
 """
 
 from __future__ import annotations
@@ -29,6 +34,8 @@ HIDDEN = {"remove-input", "remove-cell", "hide-input", "hide-cell"}
 MAX_VISIBLE_LINES = 25
 MAX_OUTPUT_WIDTH = 95
 BARE_REPR = re.compile(r"\s*(Text\(|<matplotlib|<Figure)")
+BOOKKEEPING = re.compile(r"^\s*(glue|keep)\(", flags=re.MULTILINE)
+CITATION = re.compile(r"\{glue(?::\w*)?\}`([^`]+)`")
 
 def _text(value) -> str:
     return "".join(value) if isinstance(value, list) else str(value)
@@ -46,6 +53,8 @@ def page_defects(notebook: dict) -> list[str]:
         if not tags & HIDDEN and n_lines > MAX_VISIBLE_LINES:
             defects.append(f"{where}: visible code cell of {n_lines} lines "
                            f"(at most {MAX_VISIBLE_LINES})")
+        if not tags & HIDDEN and BOOKKEEPING.search(_text(cell["source"])):
+            defects.append(f"{where}: glue bookkeeping in a visible code cell")
         for output in cell.get("outputs", []):
             texts = []
             if output["output_type"] == "stream":
@@ -100,13 +109,66 @@ def test_the_checks_catch_each_defect():
              _cell("ax.set_title('t')", [bare]), _cell("plt.show()", [figure]),
              _cell(long_source, tags=["hide-input"]),
              _cell(long_source, tags=["remove-cell"]),
-             {"cell_type": "markdown", "source": "y" * 200, "metadata": {}}]
+             {"cell_type": "markdown", "source": "y" * 200, "metadata": {}},
+             _cell('plt.show()\nkeep("n_lines", 4)'),
+             _cell('keep("n_lines", 4)', tags=["remove-cell"])]
     defects = page_defects({"cells": cells})
-    assert [d.split(":")[0] for d in defects] == ["cell 0", "cell 1", "cell 2", "cell 3"]
+    assert [d.split(":")[0] for d in defects] == ["cell 0", "cell 1", "cell 2", "cell 3",
+                                                  "cell 8"]
     assert "visible code cell of 26 lines" in defects[0]
     assert "96 characters" in defects[1]
     assert "warning" in defects[2]
     assert "bare object repr" in defects[3]
+    assert "bookkeeping" in defects[4]
+
+
+def _markdown(source: str) -> dict:
+    return {"cell_type": "markdown", "source": source, "metadata": {}}
+
+
+def _glued(name: str) -> dict:
+    return {"output_type": "display_data", "metadata": {"scrapbook": {"name": name}},
+            "data": {"text/plain": "1"}}
+
+
+def uncited_glue(notebooks: dict[str, dict], pages: list[str]) -> list[str]:
+    """The glued names (in the notebooks' stored outputs) that no page cites."""
+    cited = set()
+    texts = list(pages) + [_text(c["source"]) for nb in notebooks.values()
+                           for c in nb["cells"] if c["cell_type"] == "markdown"]
+    # a figure's caption (``mystnb: figure: caption``) cites from its cell's metadata
+    texts += [json.dumps(c.get("metadata", {})) for nb in notebooks.values()
+              for c in nb["cells"]]
+    for text in texts:
+        cited |= {m.group(1).split("::")[-1].split(":")[0].strip()
+                  for m in CITATION.finditer(text)}
+    uncited = []
+    for name, nb in notebooks.items():
+        for cell in nb["cells"]:
+            for output in cell.get("outputs", []):
+                glued = output.get("metadata", {}).get("scrapbook", {}).get("name")
+                if glued and glued not in cited:
+                    uncited.append(f"{name}: {glued}")
+    return uncited
+
+
+def test_every_glued_number_is_cited_by_a_page():
+    notebooks = {p.name: json.loads(p.read_text(encoding="utf-8")) for p in CHAPTERS}
+    pages = [p.read_text(encoding="utf-8") for p in BOOK.parent.rglob("*.md")
+             if "_build" not in p.parts]
+    uncited = uncited_glue(notebooks, pages)
+    assert not uncited, f"{len(uncited)} glued numbers no page cites: {uncited[:20]}"
+
+
+def test_an_uncited_glued_number_fails():
+    nb = {"cells": [_markdown("the {glue:text}`a` and {glue:text}`ch.ipynb::b:.2f`"),
+                    _cell("keep()", [_glued("a"), _glued("b"), _glued("c")])]}
+    assert uncited_glue({"ch.ipynb": nb}, []) == ["ch.ipynb: c"]
+    assert uncited_glue({"ch.ipynb": nb}, ["{glue:md}`c`"]) == []
+    figure = _cell("plt.show()")
+    figure["metadata"]["mystnb"] = {"figure": {"caption": "error {glue:text}`c:.2f` px"}}
+    nb["cells"].append(figure)
+    assert uncited_glue({"ch.ipynb": nb}, []) == []
 
 
 def _toc_chapters() -> list[str]:

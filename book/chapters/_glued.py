@@ -1,0 +1,52 @@
+"""The book's ``glue``: a number is glued for the prose only when a page of the book cites it.
+
+The chapters compute their numbers in loops (one per method, per ratio, per data set); the
+prose cites a few of them. ``glue`` here is myst-nb's, skipping the names that no page cites
+(``{glue:text}`name``` or ``{glue:md}`name``` in a chapter's text, a figure's caption or a page
+of the book),
+so that a chapter's stored outputs hold only the numbers a reader sees.
+``tests/test_chapter_pages.py`` fails on a glued name that no page cites.
+"""
+
+from __future__ import annotations
+
+import json
+import re
+from pathlib import Path
+
+from myst_nb import glue as _myst_glue
+
+BOOK = Path(__file__).resolve().parent.parent
+
+#: ``{glue}`name```, ``{glue:text}`name:.2f```, ``{glue:md}`chapters/x.ipynb::name```.
+CITATION = re.compile(r"\{glue(?::\w*)?\}`([^`]+)`")
+
+
+def cited_names(text: str) -> set[str]:
+    """The glued names cited in one page's text (markdown)."""
+    return {m.group(1).split("::")[-1].split(":")[0].strip() for m in CITATION.finditer(text)}
+
+
+def book_citations(book: Path = BOOK) -> frozenset[str]:
+    """Every glued name cited by a page of the book (chapters' text and markdown pages)."""
+    names: set[str] = set()
+    for path in sorted(book.rglob("*.md")):
+        if "_build" not in path.parts:
+            names |= cited_names(path.read_text(encoding="utf-8"))
+    for path in sorted((book / "chapters").glob("*.ipynb")):
+        for cell in json.loads(path.read_text(encoding="utf-8"))["cells"]:
+            # a figure's caption lives in its code cell's metadata (``mystnb: figure: caption``)
+            names |= cited_names(json.dumps(cell.get("metadata", {})))
+            if cell["cell_type"] == "markdown":
+                source = cell["source"]
+                names |= cited_names("".join(source) if isinstance(source, list) else source)
+    return frozenset(names)
+
+
+CITED = book_citations()
+
+
+def glue(name: str, value, display: bool = True) -> None:
+    """myst-nb's ``glue``, for the names a page cites (a displayed value always)."""
+    if display or name in CITED:
+        _myst_glue(name, value, display=display)

@@ -1,0 +1,302 @@
+"""The chapters' figures as a reader sees them: no blank tile, no legend text too small to read.
+
+The check is static: it reads each ``book/chapters/*.ipynb`` with its stored outputs (the PNGs
+the book shows) and fails on
+
+* a **blank tile**: a panel of a figure (an image drawn in an axes, a mosaic tile) that is one
+  uniform colour, such as a panorama that failed to stitch drawn as an empty canvas. A panel is
+  a connected region of pixels that differ from the figure's background; it is blank when it
+  is at least :data:`MIN_TILE` pixels on each side, fills its bounding box, and
+  :data:`UNIFORM_SHARE` of its pixels are within :data:`COLOUR_TOL` of its median colour;
+* an **empty band**: a subplot that drew nothing at a figure's edge (a row of tiles with
+  no image). The inline backend crops a figure to what it drew, so its content reaches within
+  a few pixels of every edge; a margin wider than :data:`MAX_MARGIN` pixels is an axes left
+  empty (a tile that says what is missing, such as "no panorama", is not);
+* **tiny legend text**: a legend whose font, at the size the page renders the figure, is
+  smaller than :data:`MIN_LEGEND_PX` pixels. A figure wider than the text column
+  (:data:`COLUMN_PX`, or :data:`FOLDED_COLUMN_PX` in a folded cell; measured in the browser by
+  ``tests/test_book_browser.py``) is shrunk to it; the legend's size is the ``fontsize`` of
+  the cell's ``legend`` calls (or the book style's ``legend.fontsize``), or, in a cell that
+  draws no legend of its own, that of the ``clap_unified.viz`` functions it calls.
+"""
+
+from __future__ import annotations
+
+import ast
+import base64
+import io
+import json
+import re
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+ROOT = Path(__file__).resolve().parent.parent
+BOOK = ROOT / "book" / "chapters"
+CHAPTERS = sorted(BOOK.glob("*.ipynb"))
+
+#: Width of the book's text column in CSS pixels at the browser test's 1280 px window, and of
+#: a folded cell's (``hide-cell``: an exercise's solution), whose frame takes a little of it.
+COLUMN_PX = 660
+FOLDED_COLUMN_PX = 638
+MIN_LEGEND_PX = 8.0
+MIN_TILE = 40
+UNIFORM_SHARE = 0.97
+COLOUR_TOL = 0.04
+MAX_MARGIN = 120  # px: a figure's margins are 7 to 40 px; an empty row of tiles, 150 or more
+#: Tags under which a cell's outputs are not on the page.
+NOT_SHOWN = {"remove-cell", "remove-output"}
+
+#: Matplotlib's relative font sizes (``"small"`` is 0.833 x ``font.size``).
+RELATIVE = {"xx-small": 0.579, "x-small": 0.694, "small": 0.833, "medium": 1.0,
+            "large": 1.2, "x-large": 1.44, "xx-large": 1.728}
+
+
+def _text(value) -> str:
+    return "".join(value) if isinstance(value, list) else str(value)
+
+
+def _png(b64: str) -> np.ndarray:
+    import matplotlib.image as mpimg
+
+    image = mpimg.imread(io.BytesIO(base64.b64decode(b64)), format="png")
+    return image[..., :3] if image.ndim == 3 else np.repeat(image[..., None], 3, axis=2)
+
+
+def blank_tiles(image: np.ndarray) -> list[tuple[int, int, int, int]]:
+    """The uniform panels of one figure, as ``(top, left, height, width)``."""
+    from scipy import ndimage
+
+    rgb = np.asarray(image, dtype=float)
+    border = np.concatenate([rgb[0], rgb[-1], rgb[:, 0], rgb[:, -1]])
+    background = np.median(border, axis=0)
+    content = np.abs(rgb - background).max(axis=2) > COLOUR_TOL
+    labels, _ = ndimage.label(content)
+    tiles = []
+    for index, box in enumerate(ndimage.find_objects(labels), start=1):
+        height = box[0].stop - box[0].start
+        width = box[1].stop - box[1].start
+        if height < MIN_TILE or width < MIN_TILE:
+            continue
+        mask = labels[box] == index
+        if mask.mean() < 0.9:  # lines, markers, text: not a filled panel
+            continue
+        pixels = rgb[box][mask]
+        close = np.abs(pixels - np.median(pixels, axis=0)).max(axis=1) <= COLOUR_TOL
+        if close.mean() >= UNIFORM_SHARE:
+            tiles.append((box[0].start, box[1].start, height, width))
+    return tiles
+
+
+def empty_bands(image: np.ndarray) -> list[str]:
+    """The edges of one figure with more than :data:`MAX_MARGIN` empty pixels before content."""
+    rgb = np.asarray(image, dtype=float)
+    border = np.concatenate([rgb[0], rgb[-1], rgb[:, 0], rgb[:, -1]])
+    content = np.abs(rgb - np.median(border, axis=0)).max(axis=2) > COLOUR_TOL
+    rows, cols = np.flatnonzero(content.any(axis=1)), np.flatnonzero(content.any(axis=0))
+    if not len(rows):
+        return ["the whole figure"]
+    margins = {"top": rows[0], "bottom": rgb.shape[0] - 1 - rows[-1],
+               "left": cols[0], "right": rgb.shape[1] - 1 - cols[-1]}
+    return [f"{edge} ({px} px)" for edge, px in margins.items() if px > MAX_MARGIN]
+
+
+def _book_rc() -> dict:
+    from clap_unified.viz.style import BOOK_RC
+
+    return BOOK_RC
+
+
+def _size_pt(value, rc) -> float | None:
+    if isinstance(value, (int, float)) and not isinstance(value, bool):
+        return float(value)
+    if isinstance(value, str) and value in RELATIVE:
+        return RELATIVE[value] * rc["font.size"]
+    return None
+
+
+def _legend_sizes(tree: ast.AST, rc) -> list[float]:
+    """The font sizes (points) of the ``legend`` calls in one piece of code."""
+    sizes = []
+    for node in ast.walk(tree):
+        if (isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute)
+                and node.func.attr == "legend"):
+            size = rc["legend.fontsize"]
+            for kw in node.keywords:
+                if kw.arg == "fontsize" and isinstance(kw.value, ast.Constant):
+                    size = _size_pt(kw.value.value, rc) or size
+                if kw.arg == "prop" and isinstance(kw.value, ast.Dict):
+                    for k, v in zip(kw.value.keys, kw.value.values, strict=True):
+                        if isinstance(k, ast.Constant) and k.value == "size" \
+                                and isinstance(v, ast.Constant):
+                            size = _size_pt(v.value, rc) or size
+            sizes.append(size)
+    return sizes
+
+
+def _library_legends() -> dict[str, list[float]]:
+    """The legend font sizes each function of ``clap_unified.viz`` draws, by name."""
+    rc = _book_rc()
+    found = {}
+    for path in sorted((ROOT / "clap_unified" / "viz").glob("*.py")):
+        tree = ast.parse(path.read_text(encoding="utf-8"))
+        for node in ast.walk(tree):
+            if isinstance(node, ast.FunctionDef):
+                sizes = _legend_sizes(node, rc)
+                if sizes:
+                    found.setdefault(node.name, []).extend(sizes)
+    return found
+
+
+def legend_sizes(source: str, library: dict[str, list[float]], rc) -> list[float]:
+    """The legend font sizes (points) one cell's figures use."""
+    try:
+        tree = ast.parse(source)
+    except SyntaxError:  # a cell with IPython syntax: no legend check
+        return []
+    sizes = _legend_sizes(tree, rc)
+    if sizes:  # the cell draws its own legends, which replace a library function's
+        return sizes
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Call):
+            name = (node.func.id if isinstance(node.func, ast.Name)
+                    else node.func.attr if isinstance(node.func, ast.Attribute) else None)
+            sizes.extend(library.get(name, []))
+    return sizes
+
+
+def rendered_px(size_pt: float, dpi: float, png_width: int, column: float = COLUMN_PX) -> float:
+    """The on-page height in CSS pixels of a ``size_pt`` font in a figure ``png_width`` wide."""
+    return size_pt * dpi / 72 * min(1.0, column / png_width)
+
+
+def figure_defects(notebook: dict, library=None, rc=None) -> list[str]:
+    """Blank tiles and tiny legends in one notebook's shown figures."""
+    rc = rc or _book_rc()
+    library = _library_legends() if library is None else library
+    defects = []
+    for index, cell in enumerate(notebook["cells"]):
+        if cell["cell_type"] != "code":
+            continue
+        if set(cell.get("metadata", {}).get("tags", [])) & NOT_SHOWN:
+            continue
+        pngs = [o["data"]["image/png"] for o in cell.get("outputs", [])
+                if "image/png" in o.get("data", {})]
+        if not pngs:
+            continue
+        sizes = legend_sizes(_text(cell["source"]), library, rc)
+        tags = set(cell.get("metadata", {}).get("tags", []))
+        column = FOLDED_COLUMN_PX if "hide-cell" in tags else COLUMN_PX
+        for number, b64 in enumerate(pngs):
+            image = _png(b64)
+            where = f"cell {index}, figure {number}"
+            for top, left, h, w in blank_tiles(image):
+                defects.append(f"{where}: a blank {w} x {h} px tile at ({left}, {top})")
+            for band in empty_bands(image):
+                defects.append(f"{where}: an empty band at the {band}: a subplot drew nothing")
+            for size in sizes:
+                px = rendered_px(size, rc["figure.dpi"], image.shape[1], column)
+                if px < MIN_LEGEND_PX:
+                    defects.append(f"{where}: legend text {size:g} pt renders at {px:.1f} px "
+                                   f"(the {image.shape[1]} px figure shrunk to the "
+                                   f"{column} px column; at least {MIN_LEGEND_PX:g} px)")
+    return defects
+
+
+def _param(path: Path):
+    return pytest.param(path, id=path.stem)
+
+
+@pytest.mark.parametrize("path", [_param(p) for p in CHAPTERS])
+def test_chapter_figures_are_readable(path):
+    defects = figure_defects(json.loads(path.read_text(encoding="utf-8")))
+    assert not defects, f"{path.name}:\n" + "\n".join(defects)
+
+
+# ----------------------------------------------------------------- the checks can fail
+def _figure_png(draw, figsize=(8, 3.6)) -> str:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig = plt.figure(figsize=figsize, dpi=100, layout="constrained")
+    draw(fig)
+    buf = io.BytesIO()
+    fig.savefig(buf, format="png", dpi=100, bbox_inches="tight")  # as the inline backend
+    plt.close(fig)
+    return base64.b64encode(buf.getvalue()).decode()
+
+
+def _cell(source, png, tags=()):
+    return {"cell_type": "code", "source": source, "metadata": {"tags": list(tags)},
+            "outputs": [{"output_type": "display_data",
+                         "data": {"image/png": png, "text/plain": "<Figure>"}}]}
+
+
+def _mosaic(fig, blank: bool, empty_row: bool = False):
+    rng = np.random.default_rng(0)
+    axes = fig.subplots(2, 3).ravel()
+    for i, ax in enumerate(axes):
+        ax.axis("off")
+        ax.set_title(f"tile {i}")
+        if empty_row and i >= 3:  # refused panoramas drawn as nothing at all
+            continue
+        tile = rng.uniform(size=(60, 80, 3))
+        if blank and i == 1:
+            tile[:] = 0.2  # a panorama that did not stitch: one flat colour
+        ax.imshow(tile)
+
+
+def _curves(fig):
+    ax = fig.subplots()
+    x = np.linspace(0, 1, 50)
+    ax.plot(x, x, label="a")
+    ax.plot(x, x**2, label="b")
+    ax.bar([0.2, 0.5], [0.3, 0.6], width=0.1)
+    ax.legend()
+
+
+def test_a_blank_tile_or_an_empty_row_fails_and_a_full_mosaic_passes():
+    rc = _book_rc()
+    good = _cell("show_mosaic()", _figure_png(lambda f: _mosaic(f, blank=False)))
+    bad = _cell("show_mosaic()", _figure_png(lambda f: _mosaic(f, blank=True)))
+    hidden = _cell("show_mosaic()", bad["outputs"][0]["data"]["image/png"], tags=["remove-cell"])
+    curves = _cell("plt.show()", _figure_png(_curves))
+    empty = _cell("show_mosaic()", _figure_png(lambda f: _mosaic(f, False, empty_row=True),
+                                               figsize=(8, 4.8)))
+    defects = figure_defects({"cells": [good, bad, hidden, curves, empty]}, library={}, rc=rc)
+    assert len(defects) == 2, defects
+    assert defects[0].startswith("cell 1, figure 0: a blank")
+    assert defects[1].startswith("cell 4, figure 0: an empty band at the bottom")
+
+
+def test_tiny_legend_text_fails():
+    rc = _book_rc()
+    wide = _figure_png(_curves, figsize=(12, 4))  # 1200 px, shrunk to the column
+    book = _figure_png(_curves, figsize=(10, 4))  # 1000 px, the widest book figures
+    narrow = _figure_png(_curves, figsize=(7, 3))
+    cells = [_cell('ax.legend(loc="upper left", fontsize=8)', wide),
+             _cell("ax.legend()", book),
+             _cell("ax.legend(fontsize=8)", narrow),
+             _cell("draw_field(ax)", wide),
+             _cell('ax.legend(fontsize="x-small")', book),
+             _cell("draw_field(ax)\nax.legend(handles=h)", book)]
+    defects = figure_defects({"cells": cells}, library={"draw_field": [7.0]}, rc=rc)
+    where = [d.split(":")[0] for d in defects]
+    assert where == ["cell 0, figure 0", "cell 3, figure 0", "cell 4, figure 0"], defects
+    assert "legend text 8 pt renders at" in defects[0]
+    assert rendered_px(9, 100, 1200) == pytest.approx(9 * 100 / 72 * COLUMN_PX / 1200)
+    assert rendered_px(9, 100, 500) == pytest.approx(12.5)  # never enlarged
+
+
+def test_library_legend_sizes_are_read_from_the_viz_modules():
+    library = _library_legends()
+    # every entry is a positive size in points; the figures of the chapters call these
+    assert library and all(s > 0 for sizes in library.values() for s in sizes)
+
+
+def test_the_chapters_are_found():
+    assert len(CHAPTERS) >= 9, CHAPTERS
+    assert re.search(r"\d", CHAPTERS[0].name)
