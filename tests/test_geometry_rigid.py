@@ -81,3 +81,22 @@ def test_nearest_of_type_matches_brute_force():
             d = np.linalg.norm(marks[members] - pts[h, n], axis=1)
             assert index[h, n] == members[d.argmin()]
             assert np.isclose(distance[h, n], d.min(), rtol=1e-12)
+
+
+def test_nearest_of_type_whole_map_and_type_by_type_agree_bit_for_bit(monkeypatch):
+    """Few poses run against the whole map at once, many type by type: the same numbers."""
+    import clap_unified.maps.nearest as nearest
+
+    rng = np.random.default_rng(4)
+    marks, kinds = rng.normal(0, 3, (25, 3)), rng.integers(0, 4, 25)
+    kinds[kinds == 3] = 0  # type 3: not on the map
+    pts, types = rng.normal(0, 3, (9, 30, 3)), rng.integers(0, 4, 30)
+    pts[0, :5] = marks[:5]  # exact hits, and ties between equal landmarks
+    marks[7] = marks[6]
+    assert 9 * 30 * 25 <= nearest.WHOLE_MAP_LIMIT  # the first call runs on the whole map
+    whole = nearest.nearest_of_type(pts, types, marks, kinds)
+    monkeypatch.setattr(nearest, "WHOLE_MAP_LIMIT", 0)
+    by_type = nearest.nearest_of_type(pts, types, marks, kinds)
+    for a, b in zip(whole, by_type, strict=True):
+        assert np.array_equal(a, b)
+    assert (whole[1][:, types == 3] == -1).all() and np.isinf(whole[0][:, types == 3]).all()

@@ -13,6 +13,10 @@ import numpy as np
 
 __all__ = ["nearest_of_type"]
 
+#: Up to this many (pose, observation, landmark) triples the query runs on the whole map at
+#: once; beyond, type by type (the same numbers either way).
+WHOLE_MAP_LIMIT = 16_384
+
 
 def nearest_of_type(points, types, positions, position_types):
     """Nearest map landmark of each point's type, for a batch of placements of the points.
@@ -48,6 +52,9 @@ def nearest_of_type(points, types, positions, position_types):
     points = np.asarray(points, dtype=float)
     types = np.asarray(types)
     position_types = np.asarray(position_types)
+    same = types[:, None] == position_types[None, :]  # (N, M)
+    if points.shape[0] * same.size <= WHOLE_MAP_LIMIT:
+        return _whole_map(points, same, positions)
     distance = np.full(points.shape[:2], np.inf)
     index = np.full(points.shape[:2], -1, dtype=np.intp)
     for kind in np.unique(types):
@@ -60,4 +67,21 @@ def nearest_of_type(points, types, positions, position_types):
         near = d2.argmin(axis=-1)
         distance[:, cols] = np.sqrt(np.take_along_axis(d2, near[..., None], axis=-1)[..., 0])
         index[:, cols] = members[near]
+    return distance, index
+
+
+def _whole_map(points, same, positions):
+    """:func:`nearest_of_type` against the whole map at once, other types masked.
+
+    The same squared distances (the same ``einsum``, element by element), the
+    same minimum and the same lowest index among ties as the query type by type;
+    cheaper when there are few poses (one refit), where the loop's overhead per
+    type dominates.
+    """
+    diff = points[:, :, None, :] - positions
+    d2 = np.einsum("hnmk,hnmk->hnm", diff, diff)
+    d2[:, ~same] = np.inf
+    index = d2.argmin(axis=-1)
+    distance = np.sqrt(np.take_along_axis(d2, index[..., None], axis=-1)[..., 0])
+    index[:, ~same.any(axis=1)] = -1
     return distance, index
