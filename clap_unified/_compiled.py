@@ -8,8 +8,8 @@ runs wherever numba cannot be imported.
 
 :data:`AVAILABLE` says whether the kernels are used. It is read at each call,
 so setting it to False runs the numpy reference everywhere (the benchmarks
-time both paths that way). The first call of a kernel compiles it (about a
-second); the machine code is cached beside the module, compiled for the CPU
+time both paths that way). The first call of a kernel compiles it; the
+machine code is cached beside the module, compiled for the CPU
 it runs on, without ``fastmath``: IEEE arithmetic, the same on every machine.
 
 Examples

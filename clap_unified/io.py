@@ -361,10 +361,10 @@ def read_typed_points(path, coords: str = "xy", *, what: str = "", max_items: in
     return kinds, np.array(rows, dtype=float).reshape(-1, len(coords))
 
 
-#: ``--hypotheses`` at most (CLAP on lines: 1000000 take about 5 s and 1 GB).
+#: ``--hypotheses`` at most (``bench/bench_cli_limits.py`` times the commands at the limits).
 MAX_HYPOTHESES = 1_000_000
 #: ``--hypotheses`` times the number of data at most (RANSAC scores every hypothesis on every
-#: datum: 2 * 10**8 take about 3 s).
+#: datum; ``bench/bench_cli_limits.py`` times the commands at the limits).
 MAX_WORK = 200_000_000
 
 

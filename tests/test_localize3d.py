@@ -7,6 +7,7 @@ import pytest
 
 from clap_unified.clap.density import dense_candidates
 from clap_unified.geometry import SE3, so3_exp
+from clap_unified.geometry.rigid import kabsch
 from clap_unified.localization.localize3d import (
     align_correspondences,
     localize3d,
@@ -16,7 +17,7 @@ from clap_unified.localization.map3d import LandmarkMap3D, lab_map
 from clap_unified.localization.scene3d import mocap_trajectory, simulate_detections
 from clap_unified.spaces import generate_hypotheses
 from clap_unified.spaces.landmarks3d import Landmark3DSpace
-from clap_unified.spaces.rigid3d import Correspondence3DSpace, kabsch, min_altitude
+from clap_unified.spaces.rigid3d import Correspondence3DSpace, min_altitude
 
 LAB = lab_map()
 TRAJ = mocap_trajectory(30, rng=0)

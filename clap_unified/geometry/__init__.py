@@ -5,7 +5,8 @@
 * :class:`LineND`: lines in ``R^d`` as ``(origin, direction)`` (scikit-image's
   ``LineModelND``), with :func:`line_residuals`, :func:`points_at` and
   :func:`predict_coordinate`;
-* :class:`SE2`, :class:`SE3`: rigid motions;
+* :class:`SE2`, :class:`SE3`: rigid motions, and :func:`kabsch`, the weighted
+  least-squares motion between corresponding points in the plane or space;
 * :class:`ProjectiveMatrices`: 3 x 3 matrices up to scale and sign (fundamental
   matrices), with the epipolar arithmetic :func:`seven_point`,
   :func:`eight_point` and :func:`sampson_error`;
@@ -29,6 +30,7 @@ from .lines_nd import (
     predict_coordinate,
 )
 from .projective import ProjectiveMatrices, normalise_projective
+from .rigid import kabsch
 from .se2 import SE2
 from .se3 import SE3
 from .so3 import (
@@ -42,7 +44,8 @@ from .so3 import (
 
 __all__ = ["SE2", "SE3", "Euclidean", "Homography", "Line2D", "LineND", "Manifold",
            "MatrixLieGroup", "ProjectiveMatrices", "canonical_lines", "canonical_lines_nd",
-           "eight_point", "expm", "frobenius_distance", "lie_distance", "line_residuals", "logm",
-           "normalise_h33", "normalise_projective", "points_at", "predict_coordinate",
+           "eight_point", "expm", "frobenius_distance", "kabsch", "lie_distance",
+           "line_residuals", "logm", "normalise_h33", "normalise_projective", "points_at",
+           "predict_coordinate",
            "sampson_error", "seven_point", "so3_exp", "so3_hat", "so3_left_jacobian",
            "so3_left_jacobian_inverse", "so3_log", "so3_vee", "wrap_angle"]

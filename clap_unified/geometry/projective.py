@@ -24,10 +24,10 @@ are one model), so its hypotheses live in the real projective space of
   distance from below, so CLAP's ``prune`` (a k-d tree count at twice the
   bandwidth) loses no cluster member. The class does not declare
   ``embedding_bounds_distance`` all the same: in 45 dimensions a k-d tree
-  answers CLAP's neighbour queries more slowly than blocks of one matrix
-  product of the unit vectors (6000 hypotheses, 50 % outlier matches: 6.8 s
-  against 1.1 s for the whole ``fit``), so beyond its dense limit CLAP takes
-  the blocked path.
+  prunes little, and blocks of one matrix product of the unit vectors answer
+  CLAP's neighbour queries faster (no benchmark of the library repeats that
+  comparison; ``bench/bench_fundamental.py`` times CLAP on fundamental
+  matrices as it is), so beyond its dense limit CLAP takes the blocked path.
 
 Points returned by ``exp`` and the means are in the original (pixel) frame,
 scaled to unit Frobenius norm with their entry of largest magnitude positive

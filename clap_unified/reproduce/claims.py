@@ -141,74 +141,76 @@ def _high_ratios(numbers):
                    if "@" in k and float(k.split("@")[1]) > 0.5})
 
 
-_NO_HIGH_RATIOS = ("data unavailable", "no outlier ratio above 50 % was run", {})
-
-
 def _outcomes(x) -> str:
     """``ok / wrong / no pose`` shares of one method at one ratio."""
     return f"{x['ok']:.2f} / {x['wrong']:.2f} / {x['none']:.2f}"
 
 
-def _measured_3d(n, high, what):
-    frames = n[f"clap@{high[0]}"]["n"]
-    return (f"share of {frames} frames per ratio, {what}; "
-            + "; ".join(f"{float(o):.0%} false: CLAP {_outcomes(n[f'clap@{o}'])}, RANSAC "
-                        f"{_outcomes(n[f'ransac@{o}'])}" for o in high))
+def _judge_3d_at_high_ratios(decide, what):
+    """One judge of the 3D experiment: ``decide`` reads CLAP and RANSAC above 50 % outliers.
+
+    The returned judge finds the outlier ratios above 50 % in the
+    ``localization3d`` numbers (``data unavailable`` when none was run), calls
+    ``decide(comparisons)`` for the verdict and states every ratio's ``ok /
+    wrong / no pose`` shares of both methods (``what`` says what they are) with
+    their table. ``comparisons`` holds, per ratio, ``(clap, ransac, ok, wrong)``:
+    the two methods' numbers, :func:`rates_differ` of CLAP's correct share over
+    RANSAC's and of RANSAC's wrong share over CLAP's.
+    """
+    def judge(outputs):
+        n = outputs["localization3d"]["numbers"]
+        high = _high_ratios(n)
+        if not high:
+            return "data unavailable", "no outlier ratio above 50 % was run", {}
+        pairs = [(n[f"clap@{o}"], n[f"ransac@{o}"]) for o in high]
+        comparisons = [(a, b, rates_differ(a["ok"], a["n"], b["ok"], b["n"]),
+                        rates_differ(b["wrong"], b["n"], a["wrong"], a["n"])) for a, b in pairs]
+        measured = (f"share of {n[f'clap@{high[0]}']['n']} frames per ratio, {what}; "
+                    + "; ".join(f"{float(o):.0%} false: CLAP {_outcomes(a)}, RANSAC "
+                                f"{_outcomes(b)}" for o, (a, b) in zip(high, pairs, strict=True)))
+        table = {f"{m}@{o}": n[f"{m}@{o}"] for m in ("clap", "ransac") for o in high}
+        return decide(comparisons), measured, table
+    return judge
 
 
-def _table_3d(n, high):
-    return {f"{m}@{o}": n[f"{m}@{o}"] for m in ("clap", "ransac") for o in high}
+def _clap_robust(comparisons) -> bool:
+    """CLAP correct in at least 0.8 of the frames at every ratio."""
+    return all(a["ok"] >= 0.8 for a, _, _, _ in comparisons)
 
 
-def _at_high_ratios(outputs):
-    """``numbers, ratios, CLAP's, RANSAC's`` at the ratios above 50 %, or None."""
-    n = outputs["localization3d"]["numbers"]
-    high = _high_ratios(n)
-    if not high:
-        return None
-    return n, high, [n[f"clap@{o}"] for o in high], [n[f"ransac@{o}"] for o in high]
+def _outperforms(comparisons) -> str:
+    """Claim 3d_outliers: CLAP's correct share above RANSAC's, and at least 0.8."""
+    ok = [d for _, _, d, _ in comparisons]
+    robust = _clap_robust(comparisons)
+    return ("reproduced" if all(d > 0 for d in ok) and robust else
+            "partly reproduced" if any(d > 0 for d in ok) or
+            (robust and all(d >= 0 for d in ok)) else "not reproduced")
 
 
-def _judge_3d(outputs):
-    found = _at_high_ratios(outputs)
-    if found is None:
-        return _NO_HIGH_RATIOS
-    n, high, c, r = found
-    diff = [rates_differ(a["ok"], a["n"], b["ok"], b["n"]) for a, b in zip(c, r, strict=True)]
-    robust = all(a["ok"] >= 0.8 for a in c)
-    verdict = ("reproduced" if all(d > 0 for d in diff) and robust else
-               "partly reproduced" if any(d > 0 for d in diff) or
-               (robust and all(d >= 0 for d in diff)) else "not reproduced")
-    return verdict, _measured_3d(n, high, "correct (within 5 cm and 1 deg) / wrong pose "
-                                 "(beyond 0.5 m or 5 deg) / no pose"), _table_3d(n, high)
-
-
-def _judge_3d_spurious(outputs):
-    found = _at_high_ratios(outputs)
-    if found is None:
-        return _NO_HIGH_RATIOS
-    n, high, c, r = found
+def _fewer_spurious(comparisons) -> str:
+    """Claim 3d_spurious: CLAP consistently correct, RANSAC more often wrong."""
     # +1: RANSAC returns a wrong pose more often than CLAP at that ratio; "no pose" is not wrong
-    wrong = [rates_differ(b["wrong"], b["n"], a["wrong"], a["n"])
-             for a, b in zip(c, r, strict=True)]
+    wrong = [w for _, _, _, w in comparisons]
     # the first half, "CLAP consistently identifies the correct cluster": correct in at least
     # 0.8 of the frames at every ratio and nowhere below RANSAC (a method that avoids wrong
     # poses by giving none does not identify the correct cluster)
-    consistent = all(a["ok"] >= 0.8 and rates_differ(a["ok"], a["n"], b["ok"], b["n"]) >= 0
-                     for a, b in zip(c, r, strict=True))
+    consistent = _clap_robust(comparisons) and all(d >= 0 for _, _, d, _ in comparisons)
     # the second half, "RANSAC occasionally converges to spurious solutions" (more than CLAP)
     spurious = any(w > 0 for w in wrong)
-    higher = any(b["wrong"] > a["wrong"] for a, b in zip(c, r, strict=True))
+    higher = any(b["wrong"] > a["wrong"] for a, b, _, _ in comparisons)
     if any(w < 0 for w in wrong):
-        verdict = "not reproduced"
-    elif consistent and spurious:
-        verdict = "reproduced"
-    elif (consistent and higher) or spurious:
-        verdict = "partly reproduced"
-    else:
-        verdict = "not reproduced"
-    return verdict, _measured_3d(n, high, "correct / wrong pose / no pose (a frame without a "
-                                 "pose is not a wrong pose)"), _table_3d(n, high)
+        return "not reproduced"
+    if consistent and spurious:
+        return "reproduced"
+    if (consistent and higher) or spurious:
+        return "partly reproduced"
+    return "not reproduced"
+
+
+_judge_3d = _judge_3d_at_high_ratios(
+    _outperforms, "correct (within 5 cm and 1 deg) / wrong pose (beyond 0.5 m or 5 deg) / no pose")
+_judge_3d_spurious = _judge_3d_at_high_ratios(
+    _fewer_spurious, "correct / wrong pose / no pose (a frame without a pose is not a wrong pose)")
 
 
 def _by_pair(rows) -> dict:

@@ -8,8 +8,9 @@
 * ``homography_homogr``: the homogr benchmark (real planar pairs with a
   ground-truth homography; the label-0 rows are the input), an extra real
   data set with ground truth that the paper did not use.
-* ``homography_evd``: EVD, extreme views with 2-51 % inliers, for the
-  paper's "robustness at high outlier ratios".
+* ``homography_evd``: EVD, extreme views with few inliers (each pair's share
+  is its ``inlier_ratio``; chapter 5 shows them), for the paper's "robustness
+  at high outlier ratios".
 * ``stitching_real``: S13-S36. Eleven real panorama sets with parallax and no
   ground truth stand in; scored by the symmetric reprojection error and the
   inlier ratio of each method on the matches the pipeline computes.

@@ -24,8 +24,8 @@ that asks neighbouring matches to share a model: :mod:`clap_unified.coherence`):
 * ``t_linkage``: T-Linkage on the same hypotheses as ``clap``;
 * ``magsac``: OpenCV's MAGSAC++ in a remove-inliers loop;
 * ``randomized_hough``: the accumulator's peaks (in ``bench/bench_adelaidermf.py``
-  only: 0.5 s a sequence, most of the experiment's time for a method that is
-  far behind).
+  only, which times every method per sequence: left out of the experiment for
+  its time, far behind the others in accuracy).
 
 Each method's best single threshold of the sweep is its number (the protocol
 of the published evaluations); Progressive-X's published numbers stand beside.

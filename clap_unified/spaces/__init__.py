@@ -1,5 +1,6 @@
 """Hypothesis spaces: model families, their minimal solvers and residuals."""
 
+from ..geometry.rigid import kabsch
 from .base import HypothesisSpace
 from .circles import CircleSpace
 from .fundamental import FundamentalSpace
@@ -9,7 +10,7 @@ from .landmarks3d import Landmark3DSpace
 from .lines import LineSpace
 from .lines_nd import LineNDSpace
 from .observations import ObservationSpace
-from .rigid3d import Correspondence3DSpace, kabsch
+from .rigid3d import Correspondence3DSpace
 from .sampling import enumerate_hypotheses, generate_hypotheses, sample_subsets
 from .skimage_model import SkimageModelSpace
 

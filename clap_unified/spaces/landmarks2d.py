@@ -17,8 +17,10 @@ from __future__ import annotations
 import numpy as np
 
 from .._validation import check_points, check_positive
+from ..geometry.rigid import pose_from_rt, transform_points, weighted_kabsch
 from ..geometry.se2 import SE2
 from ..maps.field import LANDMARK_TYPES, Field
+from ..maps.nearest import nearest_of_type
 from .base import Capabilities, HypothesisSet, HypothesisSpace
 
 __all__ = ["HOUGH_CELL", "Landmark2DSpace", "observations_array"]
@@ -253,8 +255,7 @@ class Landmark2DSpace(HypothesisSpace):
         return HypothesisSet(models, samples, n_pairs, n_pairs - len(models), True, self)
 
     def _world(self, models, data):
-        T = np.asarray(models, dtype=float).reshape(-1, 3, 3)
-        return np.einsum("hij,nj->hni", T[:, :2, :2], data[:, 1:]) + T[:, None, :2, 2]
+        return transform_points(models, data[:, 1:])
 
     def _nearest_landmarks(self, world, ids):
         """Nearest map landmark of the same type for observations on the field.
@@ -271,14 +272,13 @@ class Landmark2DSpace(HypothesisSpace):
             ``inf`` where the map has no landmark of that type.
         target : ndarray of shape (H, N, 2)
             The nearest landmark (NaN where there is none).
+
+        See :func:`~clap_unified.maps.nearest.nearest_of_type`, the query
+        :class:`~clap_unified.spaces.Landmark3DSpace` shares.
         """
-        diff = world[:, :, None, :] - self.field.positions
-        d2 = np.einsum("hnmk,hnmk->hnm", diff, diff)
-        d2[:, self._type_ids[None, :] != np.asarray(ids)[:, None]] = np.inf
-        nearest = d2.argmin(axis=-1)
-        distance = np.sqrt(d2.min(axis=-1))
-        target = self.field.positions[nearest]
-        target[~np.isfinite(distance)] = np.nan
+        distance, index = nearest_of_type(world, ids, self.field.positions, self._type_ids)
+        target = self.field.positions[index]
+        target[index < 0] = np.nan
         return distance, target
 
     def residuals(self, models, data) -> np.ndarray:
@@ -377,15 +377,14 @@ class Landmark2DSpace(HypothesisSpace):
 
     @staticmethod
     def _kabsch(src, target, w):
-        """Weighted 2D Kabsch pose taking ``src`` onto ``target``; None when degenerate."""
-        cs, ct = (w @ src) / w.sum(), (w @ target) / w.sum()
-        S = ((src - cs).T * w) @ (target - ct)
-        if np.linalg.norm(S) <= 1e-12:
+        """Weighted 2D Kabsch pose taking ``src`` onto ``target``; None when degenerate.
+
+        :func:`~clap_unified.geometry.rigid.weighted_kabsch`, shared with the 3D spaces.
+        """
+        R, t, H = weighted_kabsch(src, target, w)
+        if not np.linalg.norm(H) > 1e-12:  # also None for NaN (zero weights)
             return None
-        theta = np.arctan2(S[0, 1] - S[1, 0], S[0, 0] + S[1, 1])
-        c, s = np.cos(theta), np.sin(theta)
-        t = ct - np.array([c * cs[0] - s * cs[1], s * cs[0] + c * cs[1]])
-        return SE2.from_xytheta(t[0], t[1], theta)
+        return pose_from_rt(R, t)
 
     def model_to_dict(self, model) -> dict:
         x, y, theta = SE2.to_xytheta(model)

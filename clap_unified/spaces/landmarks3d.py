@@ -2,7 +2,7 @@
 
 The paper's 3D CLAP (Sec. III-A): a triplet of observed landmarks, matched to
 every type-compatible ordered triplet of map landmarks, fixes one SE(3) pose
-by closed-form SVD alignment (:func:`~clap_unified.spaces.rigid3d.kabsch`).
+by closed-form SVD alignment (:func:`~clap_unified.geometry.rigid.kabsch`).
 No data association is assumed: a detection carries only its type, so the
 candidates of one triplet are all map triplets of the same type pattern whose
 three pairwise distances agree with the observed ones (rigid motions preserve
@@ -24,11 +24,11 @@ from __future__ import annotations
 import numpy as np
 
 from .._validation import check_array, check_points, check_positive
+from ..geometry.rigid import pose_from_rt, transform_points, weighted_kabsch
 from ..geometry.se3 import SE3
+from ..maps.nearest import nearest_of_type
 from .base import Capabilities, HypothesisSpace
 from .rigid3d import (
-    _from_rt,
-    _kabsch,
     _refit,
     min_altitude,
     near_pose,
@@ -239,38 +239,27 @@ class Landmark3DSpace(HypothesisSpace):
         owner, landmarks = self.match_triplets(data, samples)
         if len(owner) == 0:
             return np.empty((0, 4, 4)), owner
-        R, t = _kabsch(data[samples[owner], 1:], self.positions[landmarks],
-                       np.full((len(owner), 3), 1.0 / 3.0))
-        return _from_rt(R, t), owner
+        R, t, _ = weighted_kabsch(data[samples[owner], 1:], self.positions[landmarks],
+                                  np.ones((len(owner), 3)))
+        return pose_from_rt(R, t), owner
 
     # --------------------------------------------------------------- residuals
-    def _world(self, models, data):
-        T = np.asarray(models, dtype=float).reshape(-1, 4, 4)
-        return np.einsum("hij,nj->hni", T[:, :3, :3], data[:, 1:]) + T[:, None, :3, 3]
-
     def nearest_landmarks(self, models, data):
         """Nearest map landmark of the observation's type, for every pose.
+
+        :func:`~clap_unified.maps.nearest.nearest_of_type`, the query
+        :class:`~clap_unified.spaces.landmarks2d.Landmark2DSpace` shares.
 
         Returns
         -------
         distance : ndarray of shape (H, N)
+            ``inf`` for a type the map does not have.
         index : ndarray of int, shape (H, N)
-            Index into ``positions``.
+            Index into ``positions`` (-1 for a type the map does not have).
         """
         data = np.asarray(data, dtype=float)
-        world = self._world(models, data)
-        ids = data[:, 0].astype(int)
-        distance = np.empty(world.shape[:2])
-        index = np.empty(world.shape[:2], dtype=np.intp)
-        for kind in np.unique(ids):
-            cols = ids == kind
-            members = np.flatnonzero(self.type_ids == kind)
-            diff = world[:, cols, None, :] - self.positions[members][None, None]
-            d = np.einsum("hnmi,hnmi->hnm", diff, diff)
-            near = d.argmin(axis=-1)
-            distance[:, cols] = np.sqrt(np.take_along_axis(d, near[..., None], axis=-1)[..., 0])
-            index[:, cols] = members[near]
-        return distance, index
+        return nearest_of_type(transform_points(models, data[:, 1:]), data[:, 0].astype(int),
+                               self.positions, self.type_ids)
 
     def residuals(self, models, data) -> np.ndarray:
         """Distance of each observation (moved to the world) to the nearest landmark of its type."""
@@ -286,6 +275,8 @@ class Landmark3DSpace(HypothesisSpace):
         if initial is None or len(data) < 3:
             return None
         _, index = self.nearest_landmarks(np.asarray(initial)[None], data)
+        if np.any(index < 0):
+            return None  # some observation type has no landmark in the map
         return _refit(data[:, 1:], self.positions[index[0]], weights, self.min_altitude)
 
     def model_to_dict(self, model) -> dict:

@@ -1,12 +1,9 @@
-"""Rigid motions of space from point correspondences: batched Kabsch and its space.
+"""Rigid motions of space from point correspondences: the correspondence space.
 
-The closed-form least-squares alignment of Kabsch, Arun et al. and Umeyama
-(without scale): for centred point sets the cross-covariance ``H = sum_k w_k
-(p_k - p_bar) (q_k - q_bar)^T = U S V^T`` gives ``R = V diag(1, 1, d) U^T``
-with ``d = sign(det(V U^T))``, the *reflection fix*: without it a (nearly)
-planar or noisy set can come out mirrored, ``det R = -1``. Then ``t = q_bar -
-R p_bar``. Convention: ``q = R p + t``; a pose ``T_world_body`` maps body
-points ``p`` to world points ``q``.
+The weighted Kabsch alignment lives on the geometry floor
+(:func:`~clap_unified.geometry.rigid.kabsch`, one for the plane and space).
+Convention: ``q = R p + t``; a pose ``T_world_body`` maps body points ``p`` to
+world points ``q``.
 
 :class:`Correspondence3DSpace` is the hypothesis space of putative point
 correspondences ``(p, q)``: every triplet gives one pose, after two cheap
@@ -18,72 +15,16 @@ from __future__ import annotations
 
 import numpy as np
 
-from .._validation import check_array, check_points, check_positive
+from .._validation import check_points, check_positive
+from ..geometry.rigid import pose_from_rt, weighted_kabsch
 from ..geometry.se3 import SE3
 from .base import Capabilities, HypothesisSpace
 
-__all__ = ["kabsch", "min_altitude", "Correspondence3DSpace", "near_pose", "pose_to_dict",
+__all__ = ["min_altitude", "Correspondence3DSpace", "near_pose", "pose_to_dict",
            "pose_manifold"]
 
 #: Reference points for ``metric="point_set"`` when none are given: +-3 m on each axis.
 DEFAULT_REFERENCE_POINTS = 3.0 * np.vstack([np.eye(3), -np.eye(3)])
-
-
-def kabsch(source, target, weights=None):
-    """Least-squares rotations and translations ``target ~ R source + t``, batched.
-
-    Parameters
-    ----------
-    source, target : ndarray of shape (..., K, 3)
-        Corresponding points, ``K >= 3`` (fewer do not fix a rotation).
-    weights : ndarray of shape (..., K), optional
-        Non-negative weights (default: equal).
-
-    Returns
-    -------
-    R : ndarray of shape (..., 3, 3)
-        Proper rotations (``det R = +1``, reflection fixed).
-    t : ndarray of shape (..., 3)
-
-    Examples
-    --------
-    >>> from clap_unified.geometry import so3_exp
-    >>> R0 = so3_exp([0.1, -0.2, 0.3])
-    >>> p = np.array([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 2.0, 0.0], [0.0, 0.0, 3.0]])
-    >>> R, t = kabsch(p, p @ R0.T + [1.0, 2.0, 3.0])
-    >>> bool(np.allclose(R, R0)), t.round(6).tolist()
-    (True, [1.0, 2.0, 3.0])
-    """
-    P = check_array(source, "source", shape=(Ellipsis, None, 3))
-    Q = check_array(target, "target", shape=(Ellipsis, None, 3))
-    if P.shape != Q.shape:
-        raise ValueError(f"target: expected the shape of source {P.shape}, got {Q.shape}")
-    if P.shape[-2] < 3:
-        raise ValueError(f"source: need at least 3 points per set, got {P.shape[-2]}")
-    if weights is None:
-        w = np.full(P.shape[:-1], 1.0 / P.shape[-2])
-    else:
-        w = check_array(weights, "weights", shape=P.shape[:-1])
-        total = w.sum(axis=-1, keepdims=True)
-        if np.any(w < 0) or np.any(total <= 0):
-            raise ValueError("weights: expected non-negative weights with a positive sum")
-        w = w / total
-    return _kabsch(P, Q, w)
-
-
-def _kabsch(P, Q, w):
-    """:func:`kabsch` on checked arrays with weights summing to one (no validation)."""
-    cp = np.einsum("...k,...ki->...i", w, P)
-    cq = np.einsum("...k,...ki->...i", w, Q)
-    H = np.einsum("...k,...ki,...kj->...ij", w, P - cp[..., None, :], Q - cq[..., None, :])
-    U, _, Vt = np.linalg.svd(H)
-    V = np.swapaxes(Vt, -1, -2)
-    d = np.sign(np.linalg.det(V @ np.swapaxes(U, -1, -2)))
-    d = np.where(d == 0, 1.0, d)
-    V[..., :, 2] *= d[..., None]
-    R = V @ np.swapaxes(U, -1, -2)
-    t = cq - np.einsum("...ij,...j->...i", R, cp)
-    return R, t
 
 
 def min_altitude(triangles) -> np.ndarray:
@@ -254,8 +195,8 @@ class Correspondence3DSpace(HypothesisSpace):
                       & (min_altitude(Q[owner]) >= self.min_altitude)]
         if len(owner) == 0:
             return np.empty((0, 4, 4)), owner
-        R, t = _kabsch(P[owner], Q[owner], np.full((len(owner), 3), 1.0 / 3.0))
-        return _from_rt(R, t), owner
+        R, t, _ = weighted_kabsch(P[owner], Q[owner], np.ones((len(owner), 3)))
+        return pose_from_rt(R, t), owner
 
     def residuals(self, models, data) -> np.ndarray:
         """``|R p + t - q|`` for every model and correspondence, shape ``(H, N)``."""
@@ -285,14 +226,5 @@ def _refit(source, target, weights, min_alt):
     sv = np.linalg.svd(centred, compute_uv=False)
     if sv[1] / np.sqrt(len(source)) < 0.5 * max(min_alt, 1e-9):  # collinear spread
         return None
-    R, t = _kabsch(source, target, w / w.sum())
-    return _from_rt(R, t)
-
-
-def _from_rt(R, t):
-    """4 x 4 poses from checked rotations ``(..., 3, 3)`` and translations ``(..., 3)``."""
-    T = np.zeros((*R.shape[:-2], 4, 4))
-    T[..., :3, :3] = R
-    T[..., :3, 3] = t
-    T[..., 3, 3] = 1.0
-    return T
+    R, t, _ = weighted_kabsch(source, target, w)
+    return pose_from_rt(R, t)

@@ -10,7 +10,8 @@
 * **EVD** (extreme view dataset; Mishkin, Matas, Perdoch, CVIU 2015): 15
   pairs. Every row ``xA yA xB yB ratio ratio detector descriptor label`` is a
   tentative match: all of them are input, with the SIFT ratio as a match
-  quality; the label (1: ground-truth inlier, 2-51 % of the rows) is for
+  quality; the label (1: ground-truth inlier; ``pair.inlier_ratio`` is their
+  share, which chapter 5 shows per pair) is for
   scoring only. No homography file is given: ``truth.H`` is the DLT fit to
   the labelled inliers. EVD has no separate validation points
   (``truth.validation`` is empty).
