@@ -61,7 +61,9 @@ def fit(space, data, method: str = "clap", *, n_hypotheses: int | None = None,
     n_hypotheses : int, optional
         The hypothesis budget: hypotheses generated (CLAP, randomized Hough),
         minimal samples drawn or hypotheses scored (RANSAC). Default the
-        preset's, else 1000.
+        preset's, else 1000. With a preset that has an adaptive budget
+        (``max_hypotheses``, e.g. the homography CLAP's), this is the first
+        budget: more may be drawn when it is short (see ``max_hypotheses``).
     threshold : float, optional
         Inlier threshold in data units; default the preset's, else the
         space's (or strategy's).
@@ -76,7 +78,10 @@ def fit(space, data, method: str = "clap", *, n_hypotheses: int | None = None,
         declares ``prior_hypotheses`` also builds its hypotheses from the data
         association the prior implies.
     radius : float (or what the space's ``near_prior`` accepts), optional
-        The gate around ``prior``; required with it.
+        The gate around ``prior``; required with it. Measured by the distance
+        of the space the call runs in (``result.space.manifold``): a preset
+        that builds the space from a plain one chooses that distance (the
+        homography CLAP's: pixels at anchors of the matched region).
     refine : bool, optional
         Refine the consensus model on its data inliers (``space.refine``)
         before the result is built. Default the preset's, else ``True``.
@@ -96,7 +101,8 @@ def fit(space, data, method: str = "clap", *, n_hypotheses: int | None = None,
         counterpart of RANSAC's adaptive stopping for a strategy that needs
         several right hypotheses, not one. Default the preset's (raised to
         ``n_hypotheses`` when that is larger; none with ``hypotheses``), else
-        none.
+        none. ``max_hypotheses=n_hypotheses`` keeps one budget whatever the
+        preset (``None`` means "the preset's").
     preset : str or Preset, optional
         The defaults this call starts from (:mod:`~clap_unified.presets`):
         ``"default"`` (the library's best), ``"paper"`` (the paper's
@@ -157,6 +163,10 @@ def fit(space, data, method: str = "clap", *, n_hypotheses: int | None = None,
     if not isinstance(space, HypothesisSpace):
         raise ValueError(f"space: expected a HypothesisSpace, got {type(space).__name__}")
     strategy = get_strategy(method, space)
+    if n_hypotheses is not None:
+        n_hypotheses = check_int(n_hypotheses, "n_hypotheses", minimum=1)
+    if max_hypotheses is not None:
+        max_hypotheses = check_int(max_hypotheses, "max_hypotheses", minimum=1)
     given = {k: v for k, v in (("n_hypotheses", n_hypotheses), ("threshold", threshold),
                                ("refine", refine), ("max_hypotheses", max_hypotheses))
              if v is not None}

@@ -169,7 +169,9 @@ def test_a_configured_space_is_used_as_given():
     a = fit(space, m, "clap", rng=0)
     b = fit(space, m, "clap", rng=0, preset="none")
     same(a, b)
-    assert a.space is space and "select" not in a.diagnostics.get("options", {})
+    # the strategy's own defaults, not the preset's: 1000 hypotheses, no adaptive second budget
+    assert a.space is space and a.diagnostics["hypotheses"] == 1000
+    assert "adaptive_hypotheses" not in a.diagnostics
     plain = fit(HomographySpace(), m, "clap", rng=0, preset="none", n_hypotheses=50)
     assert plain.space.is_plain and plain.diagnostics["hypotheses"] == 50
     with pytest.raises(ValueError, match="^polish: a setting of the space a preset builds"):
@@ -200,3 +202,46 @@ def test_preset_rejects_unknown_keys():
         Preset("x", "homography", "clap", space={"metrik": "lie"})
     with pytest.raises(ValueError, match=r"^fit: 'rng' is not one of fit's arguments"):
         Preset("x", "homography", "clap", fit={"rng": 0})
+
+
+#: The protocols as ``imaging.estimate`` wrote them out before the presets existed (commit
+#: 5b852aa): the presets must reproduce them, key for key.
+PROTOCOLS_BEFORE_PRESETS = {
+    "clap": {"frame": True, "metric": "transfer", "polish": 2.0, "n_hypotheses": 1000,
+             "threshold": 3.0, "density": "knn", "k": 2, "bandwidth": 3.0, "suppress": 3.0,
+             "rounds": 0, "max_clusters": 16, "min_support": 1, "select": "consensus",
+             "n_refine": 3, "max_hypotheses": 10_000},
+    "clap_paper": {"strategy": "clap", "frame": True, "metric": "lie", "polish": False,
+                   "n_hypotheses": 400, "threshold": 3.0, "neighbourhood": "all",
+                   "rounds": 5, "discard_fraction": 0.2, "bandwidth_quantile": 0.02},
+    "clap_densest": {"strategy": "clap", "frame": True, "metric": "lie_linear", "polish": True,
+                     "n_hypotheses": 400, "threshold": 3.0, "bandwidth_quantile": 0.02,
+                     "rounds": 5, "discard_fraction": 0.2},
+    "ransac": {"frame": False, "polish": False, "n_hypotheses": 1000, "threshold": 3.0},
+    "randomized_hough": {"frame": True, "metric": "lie_linear", "polish": False,
+                         "n_hypotheses": 400, "threshold": 3.0, "cell_size": 0.05},
+    "cv2_ransac": {"frame": False, "refine": False, "n_hypotheses": 1000, "threshold": 3.0},
+    "magsac": {"frame": False, "refine": False, "n_hypotheses": 1000, "threshold": 3.0},
+    "usac_accurate": {"frame": False, "refine": False, "n_hypotheses": 1000, "threshold": 3.0},
+    "usac_ransac_fixed": {"frame": False, "refine": False, "n_hypotheses": 1000,
+                          "threshold": 3.0},
+    "poselib": {"frame": False, "refine": False, "n_hypotheses": 100_000, "threshold": 3.0,
+                "confidence": 0.9999, "min_iterations": 1000},
+    "colmap": {"frame": False, "refine": False, "n_hypotheses": 100_000, "threshold": 3.0,
+               "confidence": 0.9999, "min_iterations": 1000},
+}
+
+
+def test_presets_reproduce_the_protocols_written_before_them():
+    from clap_unified.imaging.estimate import PROTOCOLS
+
+    assert {k: dict(v) for k, v in PROTOCOLS.items()} == PROTOCOLS_BEFORE_PRESETS
+
+
+@pytest.mark.parametrize("bad", ["abc", float("nan"), float("inf"), [5], 0])
+def test_a_bad_budget_names_the_argument_before_any_preset(bad):
+    m = matches(0)
+    with pytest.raises(ValueError, match="^n_hypotheses"):
+        fit(HomographySpace(), m, "clap", n_hypotheses=bad)
+    with pytest.raises(ValueError, match="^max_hypotheses"):
+        fit(HomographySpace(), m, "clap", max_hypotheses=bad)

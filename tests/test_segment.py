@@ -315,6 +315,9 @@ def test_label_cost_energy_is_what_the_selection_minimises():
             assert e <= label_cost_energy(space, cands[c:c + 1], pts, 0.2, cost) + 1e-12
     # no model: every datum pays t^2
     assert label_cost_energy(space, cands[:0], pts, 0.2, 5.0) == pytest.approx(0.04 * len(pts))
+    # y = 0: its 30 points pay 0, the 30 at y = 0.1 pay 0.1^2, the two far ones t^2; one label
+    assert label_cost_energy(space, cands[1:2], pts, 0.2, 5.0) == pytest.approx(
+        0.01 * 30 + 0.04 * 2 + 5.0)
 
 
 def test_explain_errors_scores_clap_against_the_annotated_planes(monkeypatch):
@@ -330,14 +333,24 @@ def test_explain_errors_scores_clap_against_the_annotated_planes(monkeypatch):
     real = sm.segment
 
     def spy(space, data, method, **kw):
-        seen.append(np.array(data))
+        seen.append((np.array(data), kw))
         return real(space, data, method, **kw)
 
     monkeypatch.setattr(sm, "segment", spy)
     (row,) = sm.explain_errors(threshold=7.0, seed=0, names=["elderhallb"])
     assert len(seen) == 1
-    np.testing.assert_array_equal(seen[0], pair.input.matches)
+    np.testing.assert_array_equal(seen[0][0], pair.input.matches)
+    n = len(pair.truth.labels)
+    assert all(not (isinstance(v, np.ndarray) and len(v) == n) for v in seen[0][1].values())
     assert row["true_models"] == 3 and row["cause"] in {"objective", "search", "none"}
     # the annotated planes through the same finish err less than a method can be expected to
     assert 0.0 <= row["oracle_error"] <= row["error"] + 1e-12
     assert row["energy"] > 0 and row["oracle_energy"] > 0
+
+
+@pytest.mark.parametrize("options", [{"select": "cover"}, {"refine": False}])
+def test_explain_errors_refuses_answers_the_energy_does_not_judge(options):
+    from clap_unified.imaging.segment_matches import explain_errors
+
+    with pytest.raises(ValueError, match="^options"):
+        explain_errors(threshold=5.0, options=options, names=[])

@@ -33,13 +33,30 @@ from ..result import Segmentation
 from ..spaces.base import HypothesisSet
 from .clap import run_clap
 
-__all__ = ["run_clap_segment"]
+__all__ = ["DEFAULT_LABEL_COST", "label_cost_of", "run_clap_segment"]
+
+#: CLAP's default label cost, in units of ``min_support`` data at the threshold.
+DEFAULT_LABEL_COST = 1.0
+
+
+def label_cost_of(label_cost: float, min_support: int, threshold: float) -> float:
+    """The cost of one model in squared data units: ``label_cost * min_support * threshold**2``.
+
+    A model must save about ``label_cost * min_support`` data that would
+    otherwise be outliers to pay for itself.
+
+    Examples
+    --------
+    >>> label_cost_of(1.0, 10, 5.0)
+    250.0
+    """
+    return float(label_cost) * int(min_support) * float(threshold) ** 2
 
 
 def run_clap_segment(space, data, hypotheses: HypothesisSet, *, threshold: float, rng=None,
                      n_hypotheses: int = 0, min_support: int, refine_rounds: int = 1,
                      bandwidth: float | None = None, select: str = "label_cost",
-                     label_cost: float = 1.0, max_models: int = 20,
+                     label_cost: float = DEFAULT_LABEL_COST, max_models: int = 20,
                      max_clusters: int = 60) -> Segmentation:
     """The multi-model CLAP (see the module): refine, cluster, select.
 
@@ -100,7 +117,7 @@ def run_clap_segment(space, data, hypotheses: HypothesisSet, *, threshold: float
         bw = found.diagnostics.get("bandwidth", bandwidth)
         how = f"density clusters within bandwidth {bw:.3g}"
     if select == "label_cost":
-        cost = label_cost * min_support * threshold ** 2
+        cost = label_cost_of(label_cost, min_support, threshold)
         kept = select_by_label_cost(space, centres, data, threshold, cost, max_models)
         rule = (f"label cost: a model must save {label_cost:g} x {min_support} data at the "
                 f"threshold ({len(centres)} clusters: {how})")

@@ -108,8 +108,10 @@ def weighted_kabsch(P, Q, w):
     t : ndarray of shape (..., d)
     H : ndarray of shape (..., d, d)
         The cross-covariance of the centred sets under the weights as given
-        (not normalised); all zeros when the rotation is undetermined (the
-        callers test its norm). With a zero weight sum everything is NaN.
+        (not normalised), for the callers' degeneracy tests: in the plane
+        all zeros when the rotation is undetermined; in space collinear
+        points leave a rank-1 ``H``, not a zero one (the 3D callers test the
+        points' spread instead). With a zero weight sum everything is NaN.
 
     Examples
     --------

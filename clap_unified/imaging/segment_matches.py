@@ -177,7 +177,10 @@ def explain_errors(kind: str = "homography", *, threshold: float, seed: int = 0,
     names : sequence of str, optional
         Sequences (default all present).
     options : dict, optional
-        Options of :func:`segment_matches` for CLAP (e.g. ``label_cost``).
+        Options of :func:`segment_matches` for CLAP (e.g. ``label_cost``,
+        ``min_support``; the oracle's finish takes the same). Not
+        ``select="cover"`` nor ``refine=False``: the verdict compares label-cost
+        energies after the finish, which those answers do not minimise.
 
     Returns
     -------
@@ -187,6 +190,7 @@ def explain_errors(kind: str = "homography", *, threshold: float, seed: int = 0,
         ``threshold**2``), ``cause`` (``"objective"``, ``"search"``, or
         ``"none"`` when CLAP is within a match of the oracle).
     """
+    from ..clap.segment import DEFAULT_LABEL_COST, label_cost_of
     from ..partition import finish_partition, label_cost_energy
     from ..segmenting import default_min_support
     from .datasets.adelaidermf import adelaidermf_names, load_adelaidermf
@@ -194,6 +198,11 @@ def explain_errors(kind: str = "homography", *, threshold: float, seed: int = 0,
 
     kind = check_choice(kind, "kind", set(SPACES))
     options = dict(options or {})
+    if options.get("select", "label_cost") != "label_cost":
+        raise ValueError("options: select must be 'label_cost' (the verdict compares "
+                         "label-cost energies)")
+    if options.get("refine", True) is False:
+        raise ValueError("options: refine=False leaves no finish to compare with the oracle's")
     names = adelaidermf_names(kind) if names is None else list(names)
     defaults = SEGMENT_DEFAULTS[kind]
     coherence = options.get("coherence", defaults["coherence"])
@@ -203,7 +212,7 @@ def explain_errors(kind: str = "homography", *, threshold: float, seed: int = 0,
         matches, truth = pair.input.matches, pair.truth.labels
         res = segment_matches(matches, kind, "clap", threshold=threshold, rng=seed, **options)
         space, data = res.space, np.asarray(matches, dtype=float)
-        min_support = default_min_support(space, len(data))
+        min_support = options.get("min_support") or default_min_support(space, len(data))
         structures = [k for k in range(1, truth.max() + 1) if np.count_nonzero(truth == k)]
         fitted = [space.refit(data[truth == k]) for k in structures]
         oracle = np.array([m for m in fitted if m is not None]).reshape(-1, *space.model_shape)
@@ -211,7 +220,8 @@ def explain_errors(kind: str = "homography", *, threshold: float, seed: int = 0,
             space, oracle, data, threshold, min_support, coherence=coherence,
             coherence_neighbours=options.get("coherence_neighbours",
                                              defaults["coherence_neighbours"]))
-        cost = options.get("label_cost", 1.0) * min_support * threshold ** 2
+        cost = label_cost_of(options.get("label_cost", DEFAULT_LABEL_COST), min_support,
+                             threshold)
         energy = label_cost_energy(space, res.models, data, threshold, cost) / threshold ** 2
         floor = label_cost_energy(space, oracle, data, threshold, cost) / threshold ** 2
         error = misclassification_error(res.labels, truth)

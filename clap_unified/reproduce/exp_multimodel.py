@@ -93,13 +93,14 @@ def _best(rows):
     return out
 
 
-def _diagnose(threshold, params, seed):
+def _diagnose(threshold, params, seed, rows_run):
     """CLAP's error against the annotated planes' own (the oracle), per sequence and seed.
 
     ``summary``: the oracle's mean error (the floor of the finish) and CLAP's
     mean excess over it, split by cause (``objective``: CLAP's answer has a
     lower label-cost energy than the truth; ``search``: a higher one), in
-    points of mean error.
+    points of mean error. CLAP runs again for each sequence and seed; its
+    errors must be those of ``rows_run`` (the experiment's own run).
     """
     rows = []
     for k in range(params["seeds"]):
@@ -109,6 +110,13 @@ def _diagnose(threshold, params, seed):
                          "oracle_error": round(100 * r["oracle_error"], 2),
                          "energy": round(r["energy"], 1),
                          "oracle_energy": round(r["oracle_energy"], 1)})
+    ran = {(r["sequence"], r["seed"]): 100 * r["error"] for r in rows_run
+           if r["method"] == "clap" and r["threshold"] == threshold}
+    for r in rows:  # the same call, seed and threshold: the same answer, or nothing is explained
+        if round(ran[r["sequence"], r["seed"]], 2) != r["error"]:
+            raise RuntimeError(f"explain_errors: CLAP on {r['sequence']} (seed {r['seed']}) "
+                               f"gave {r['error']} %, the experiment "
+                               f"{ran[r['sequence'], r['seed']]:.2f} %")
     n = len(rows)
     excess = {c: round(sum(r["error"] - r["oracle_error"] for r in rows if r["cause"] == c) / n,
                        2) for c in ("objective", "search", "none")}
@@ -132,7 +140,7 @@ def run_multimodel(params: dict, seed: int) -> dict:
         ablation_rows += _evaluate(label, "clap", change, {**params, "thresholds":
                                                           [best["clap"]["threshold"]]}, seed)
     ablation = _best(ablation_rows)
-    diagnosis = _diagnose(best["clap"]["threshold"], params, seed)
+    diagnosis = _diagnose(best["clap"]["threshold"], params, seed, rows)
     fundamental = []
     for label in params.get("fundamental_methods", ()):
         segmenter, options = METHODS[label]

@@ -118,8 +118,12 @@ class HomographySpace(HypothesisSpace):
     -----
     The plain space compares hypotheses as pixel homographies (the paper's
     metric as written), which is slow and badly conditioned for clustering
-    hundreds of candidates. For CLAP use :meth:`for_data` (the Hartley frame
-    of the matches) or :meth:`for_images` (the image-size frame).
+    hundreds of candidates. :func:`~clap_unified.fit` on a plain space
+    therefore builds the space its preset names (:mod:`~clap_unified.presets`:
+    the homography CLAP's compares hypotheses by where they send anchors of
+    the matched region); to choose the frame yourself, use :meth:`for_data`
+    (the Hartley frame of the matches) or :meth:`for_images` (the image-size
+    frame), which ``fit`` uses as given.
     """
 
     min_samples = 4
