@@ -55,6 +55,8 @@ class SpaceContract:
     data_name = "data"
     #: Options a strategy needs in this space that have no default there.
     options: dict = {}
+    #: The space is plain and ``fit``'s preset builds the one it runs in (same class).
+    builds_space = False
 
     @staticmethod
     def problem():
@@ -89,7 +91,8 @@ class SpaceContract:
         space, data, *_ = self.fixtures()
         res = self.run(method)
         assert res.success, res.reason
-        assert res.method == method and res.space is space
+        assert res.method == method
+        assert res.space is space or (self.builds_space and type(res.space) is type(space))
         assert res.model.shape == tuple(space.model_shape)
         assert res.inliers.shape == (len(data),) and res.inliers.dtype == bool
         assert res.support.dtype == bool and res.support.shape == (res.diagnostics["hypotheses"],)
@@ -251,6 +254,17 @@ class TestHomography(SpaceContract):
         matches = np.c_[src, dst]
         degenerate = np.tile([[10.0, 20.0, 30.0, 40.0]], (20, 1))
         return HomographySpace.for_data(matches), matches, degenerate, 3.0
+
+
+class TestPlainHomography(TestHomography):
+    """``fit(HomographySpace(), ...)``: each strategy's preset builds the space it runs in."""
+
+    builds_space = True
+
+    @staticmethod
+    def problem():
+        space, matches, degenerate, threshold = TestHomography.problem()
+        return HomographySpace(), matches, degenerate, threshold
 
 
 class TestFundamental(SpaceContract):
