@@ -119,7 +119,7 @@ def _diagnose(threshold, params, seed, rows_run):
                                f"{ran[r['sequence'], r['seed']]:.2f} %")
     n = len(rows)
     excess = {c: round(sum(r["error"] - r["oracle_error"] for r in rows if r["cause"] == c) / n,
-                       2) for c in ("objective", "search", "none")}
+                       2) for c in ("objective", "search", "floor")}
     return {"rows": rows, "summary": {
         "threshold": threshold, "error_mean": round(sum(r["error"] for r in rows) / n, 2),
         "oracle_mean": round(sum(r["oracle_error"] for r in rows) / n, 2),
