@@ -185,7 +185,7 @@ def run_multimodel(params: dict, seed: int) -> dict:
     return {
         "data": f"AdelaideRMF: {numbers['sequences']} homography sequences (johnsona and "
                 f"johnsonb missing) and {numbers['fundamental']['sequences']} fundamental-matrix "
-                f"sequences, {params['seeds']} seed(s) per sequence",
+                f"sequences, {params['seeds']} seed{'s' * (params['seeds'] != 1)} per sequence",
         "protocol": "every method through segment() with the same threshold sweep, minimum "
                     "support (10 matches and 2 %) and finish (nearest model, refit, then "
                     "spatial coherence by a graph cut); each method's best single "
