@@ -106,10 +106,10 @@ def fit(space, data, method: str = "clap", *, n_hypotheses: int | None = None,
     preset : str or Preset, optional
         The defaults this call starts from (:mod:`~clap_unified.presets`):
         ``"default"`` (the library's best), ``"paper"`` (the paper's
-        protocol), ``"none"`` (the strategy's own defaults), a protocol name
+        protocol), ``"own"`` (the strategy's own defaults, no preset), a protocol name
         (``"clap_paper"``...) or a :class:`~clap_unified.presets.Preset`.
         ``None``: ``"default"`` when ``space`` is plain (e.g.
-        ``HomographySpace()``), else ``"none"``. A preset builds its space
+        ``HomographySpace()``), else ``"own"``. A preset builds its space
         from a plain space (homographies: in the frame of the matches, its
         metric and polish); a space configured by hand is used as given. Every
         argument passed explicitly, and every option, overrides the preset.
@@ -447,7 +447,7 @@ def compare(space, data, *, methods=("randomized_hough", "ransac", "clap"),
             ) -> dict[str, ConsensusResult]:
     """Run several strategies through :func:`fit` on the *same* hypotheses, drawn once.
 
-    Each strategy runs with its own defaults (``preset="none"``, no preset of
+    Each strategy runs with its own defaults (``preset="own"``, no preset of
     :mod:`~clap_unified.presets`), on the space as given: the strategies differ
     only in how they reach consensus.
 
@@ -502,7 +502,7 @@ def compare(space, data, *, methods=("randomized_hough", "ransac", "clap"),
     out = {}
     for s in strategies:
         res = fit(space, data, s.name, n_hypotheses=n_hypotheses, threshold=threshold,
-                  hypotheses=hyps if s.uses_hypotheses else None, rng=rng, preset="none",
+                  hypotheses=hyps if s.uses_hypotheses else None, rng=rng, preset="own",
                   **options.get(s.name, {}))
         out[s.name] = res.replace(diagnostics={"generation_seconds": gen})
     return out

@@ -14,9 +14,9 @@ gives a copy with some values overridden, each key routed to its part.
   ``"clap"``, bit for bit;
 * ``"paper"``: the paper's protocol (CLAP: Sec. "Image Stitching Results" as
   written; RANSAC and randomized Hough: the paper's baselines);
-* ``"densest"`` (CLAP on homographies): an earlier reading of the paper;
+* ``"densest"`` (CLAP on homographies): another reading of the paper;
 * ``"peer"`` (another library's estimator): reported as the peer returns it;
-* ``"none"``: no preset, the strategy's and :func:`~clap_unified.fit`'s own
+* ``"own"``: no preset, the strategy's and :func:`~clap_unified.fit`'s own
   defaults;
 * a protocol name of :data:`~clap_unified.imaging.estimate.PROTOCOLS` that
   runs this strategy (``"clap"``, ``"clap_paper"``, ``"clap_densest"``,
@@ -26,7 +26,7 @@ gives a copy with some values overridden, each key routed to its part.
 
 :data:`PRESETS` holds them all (homographies today: the space whose
 strategies need tuning beyond their defaults); a space without an entry has
-only ``"default"`` and ``"none"``, both the strategy's own defaults.
+only ``"default"`` and ``"own"``, both the strategy's own defaults.
 :data:`~clap_unified.imaging.estimate.PROTOCOLS`, ``clap-unified fit
 homography``, ``reproduce`` and the book read these presets.
 
@@ -39,7 +39,7 @@ Examples
 >>> q.fit["n_hypotheses"], q.options["rounds"], q.space["polish"], p.options["rounds"]
 (800, 3, True, 5)
 >>> preset_names("homography", "clap")
-('default', 'paper', 'densest', 'clap', 'clap_paper', 'clap_densest', 'none')
+('default', 'paper', 'densest', 'clap', 'clap_paper', 'clap_densest', 'own')
 """
 
 from __future__ import annotations
@@ -227,7 +227,7 @@ def _homography_presets() -> tuple[Preset, ...]:
                fit={"n_hypotheses": 400, "threshold": t},
                options={"bandwidth_quantile": 0.02, "rounds": 5, "discard_fraction": 0.2},
                protocol="clap_densest",
-               summary="an earlier reading of the paper: trimming inside the densest "
+               summary="another reading of the paper: trimming inside the densest "
                        "cluster, polished"),
         Preset("default", "homography", "ransac", space={"frame": False, "polish": False},
                fit={"n_hypotheses": 1000, "threshold": t}, protocol="ransac",
@@ -259,7 +259,7 @@ def _homography_presets() -> tuple[Preset, ...]:
 PRESETS = Settings({(p.space_name, p.strategy, p.name): p for p in _homography_presets()})
 
 #: The name of "no preset": the strategy's and :func:`~clap_unified.fit`'s own defaults.
-NONE = "none"
+OWN = "own"
 
 
 def _space_name(space) -> str:
@@ -272,21 +272,21 @@ def preset_names(space, strategy: str) -> tuple[str, ...]:
     Examples
     --------
     >>> preset_names("homography", "ransac")
-    ('default', 'paper', 'ransac', 'none')
+    ('default', 'paper', 'ransac', 'own')
     >>> preset_names("line", "clap")
-    ('default', 'none')
+    ('default', 'own')
     """
     name = _space_name(space)
     presets = [p for (s, g, _), p in PRESETS.items() if s == name and g == strategy]
     short = [n for p in presets for n in (p.name, *p.aliases)]
     long = [p.protocol for p in presets if p.protocol]
-    return tuple(dict.fromkeys(["default", *short, *long, NONE]))
+    return tuple(dict.fromkeys(["default", *short, *long, OWN]))
 
 
 def get_preset(space, strategy: str, name: str = "default") -> Preset | None:
     """The preset ``name`` of ``strategy`` in ``space`` (a space or its name).
 
-    ``None`` for ``"none"``, and for ``"default"`` where the library has no
+    ``None`` for ``"own"``, and for ``"default"`` where the library has no
     preset (the strategy's own defaults are the default).
 
     Raises
@@ -304,7 +304,7 @@ def get_preset(space, strategy: str, name: str = "default") -> Preset | None:
     Traceback (most recent call last):
     ...
     ValueError: preset: unknown preset 'papr' of 'clap' in the homography space; choices: \
-'default', 'paper', 'densest', 'clap', 'clap_paper', 'clap_densest', 'none'
+'default', 'paper', 'densest', 'clap', 'clap_paper', 'clap_densest', 'own'
     """
     space_name = _space_name(space)
     if not isinstance(name, str):
@@ -312,7 +312,7 @@ def get_preset(space, strategy: str, name: str = "default") -> Preset | None:
     for (s, g, _), p in PRESETS.items():
         if s == space_name and g == strategy and name in p.names:
             return p
-    if name in (NONE, "default"):
+    if name in (OWN, "default"):
         return None
     choices = ", ".join(repr(n) for n in preset_names(space_name, strategy))
     raise ValueError(f"preset: unknown preset {name!r} of {strategy!r} in the {space_name} "
@@ -351,7 +351,7 @@ def resolve_preset(space, data, method: str, preset, given: dict, options: dict,
     ...                                    {"n_hypotheses": 20000}, {"n_refine": 1})
     >>> space.polish, args["max_hypotheses"], opts["n_refine"], opts["select"]
     (2.0, 20000, 1, 'consensus')
-    >>> resolve_preset(HomographySpace(), m, "clap", "none", {}, {})[1]
+    >>> resolve_preset(HomographySpace(), m, "clap", "own", {}, {})[1]
     {}
     """
     plain = getattr(space, "is_plain", False)

@@ -100,3 +100,14 @@ def test_nearest_of_type_whole_map_and_type_by_type_agree_bit_for_bit(monkeypatc
     for a, b in zip(whole, by_type, strict=True):
         assert np.array_equal(a, b)
     assert (whole[1][:, types == 3] == -1).all() and np.isinf(whole[0][:, types == 3]).all()
+
+
+@pytest.mark.parametrize("limit", [0, 10**9])
+def test_nearest_of_type_takes_lists_and_an_empty_map_on_both_paths(monkeypatch, limit):
+    import clap_unified.maps.nearest as nearest
+
+    monkeypatch.setattr(nearest, "WHOLE_MAP_LIMIT", limit)
+    d, i = nearest.nearest_of_type([[[0.0, 1.0]]], [0], [[0.0, 0.0], [5.0, 5.0]], [0, 0])
+    assert d.tolist() == [[1.0]] and i.tolist() == [[0]]
+    d, i = nearest.nearest_of_type([[[0.0, 1.0]]], [0], np.zeros((0, 2)), [])
+    assert np.isinf(d).all() and (i == -1).all()

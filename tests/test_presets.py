@@ -102,13 +102,13 @@ def test_unknown_preset_names_the_argument_and_the_choices():
     with pytest.raises(ValueError, match=r"^preset: unknown preset 'papr' of 'clap' in the "
                                          r"homography space; choices: 'default', 'paper', "
                                          r"'densest', 'clap', 'clap_paper', 'clap_densest', "
-                                         r"'none'$"):
+                                         r"'own'$"):
         fit(HomographySpace(), m, "clap", preset="papr")
     with pytest.raises(ValueError, match=r"^preset: .*'ransac'.*choices: 'default', 'paper', "
-                                         r"'ransac', 'none'$"):
+                                         r"'ransac', 'own'$"):
         fit(HomographySpace(), m, "ransac", preset="densest")
     pts = np.c_[np.arange(10.0), np.arange(10.0)]
-    with pytest.raises(ValueError, match=r"^preset: .*line space; choices: 'default', 'none'$"):
+    with pytest.raises(ValueError, match=r"^preset: .*line space; choices: 'default', 'own'$"):
         fit(LineSpace(), pts, "clap", preset="paper")
     with pytest.raises(ValueError, match="^preset: expected a name or a Preset"):
         fit(HomographySpace(), m, "clap", preset=3)
@@ -162,17 +162,17 @@ def test_explicit_budget_raises_the_adaptive_cap_and_hypotheses_drop_it():
 
 def test_a_configured_space_is_used_as_given():
     """No preset behind the user's back: a space built by hand runs the strategy's own
-    defaults (as before presets), the same as ``preset="none"``; a space setting of a
+    defaults (as before presets), the same as ``preset="own"``; a space setting of a
     preset cannot be applied to it."""
     m = matches(2)
     space = HomographySpace.for_data(m, metric="lie")
     a = fit(space, m, "clap", rng=0)
-    b = fit(space, m, "clap", rng=0, preset="none")
+    b = fit(space, m, "clap", rng=0, preset="own")
     same(a, b)
     # the strategy's own defaults, not the preset's: 1000 hypotheses, no adaptive second budget
     assert a.space is space and a.diagnostics["hypotheses"] == 1000
     assert "adaptive_hypotheses" not in a.diagnostics
-    plain = fit(HomographySpace(), m, "clap", rng=0, preset="none", n_hypotheses=50)
+    plain = fit(HomographySpace(), m, "clap", rng=0, preset="own", n_hypotheses=50)
     assert plain.space.is_plain and plain.diagnostics["hypotheses"] == 50
     with pytest.raises(ValueError, match="^polish: a setting of the space a preset builds"):
         fit(space, m, "clap", preset="paper", polish=True)
@@ -194,7 +194,7 @@ def test_protocols_derive_from_the_presets():
     assert HomographySpace().default_threshold(None) == DEFAULT_THRESHOLD
     with pytest.raises(TypeError):
         PROTOCOLS["clap"]["threshold"] = 2.0
-    assert preset_names(HomographySpace(), "magsac") == ("default", "peer", "magsac", "none")
+    assert preset_names(HomographySpace(), "magsac") == ("default", "peer", "magsac", "own")
 
 
 def test_preset_rejects_unknown_keys():

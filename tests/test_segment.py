@@ -342,7 +342,7 @@ def test_explain_errors_scores_clap_against_the_annotated_planes(monkeypatch):
     np.testing.assert_array_equal(seen[0][0], pair.input.matches)
     n = len(pair.truth.labels)
     assert all(not (isinstance(v, np.ndarray) and len(v) == n) for v in seen[0][1].values())
-    assert row["true_models"] == 3 and row["cause"] in {"objective", "search", "none"}
+    assert row["true_models"] == 3 and row["cause"] in {"objective", "search", "floor"}
     # the annotated planes through the same finish err less than a method can be expected to
     assert 0.0 <= row["oracle_error"] <= row["error"] + 1e-12
     assert row["energy"] > 0 and row["oracle_energy"] > 0

@@ -45,7 +45,7 @@ MAX_IMAGE_PIXELS = 25_000_000
 MAX_MATCHES = 100_000
 
 _METHOD_HELP = ("homography estimator (default clap): clap (the library's CLAP), clap_paper "
-                "(the paper's protocol as written), clap_densest (an earlier reading of it: "
+                "(the paper's protocol as written), clap_densest (another reading of it: "
                 "trimming inside the densest cluster, polished), ransac, randomized_hough, "
                 "or another library's estimator (cv2_ransac, magsac, usac_accurate, "
                 "usac_ransac_fixed, poselib, colmap)")

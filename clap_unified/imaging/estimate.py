@@ -35,7 +35,7 @@ preset="paper")``:
   discarding the 20 % farthest from the current medoid; then the same
   re-estimation as RANSAC's, a DLT refit on the data inliers of the centre
   (no polish);
-* ``"clap_densest"`` (the package's earlier reading of the same words, kept
+* ``"clap_densest"`` (another reading of the same words, kept
   for comparison): the candidates compared by the first-order distance
   ``"lie_linear"``, bandwidth the 2 % quantile of their 4-NN distances,
   the cluster with the most candidates, its robust centre by 5 rounds of

@@ -188,7 +188,7 @@ def explain_errors(kind: str = "homography", *, threshold: float, seed: int = 0,
         Per sequence: ``error`` and ``oracle_error`` (fractions), ``models``
         and ``true_models``, ``energy`` and ``oracle_energy`` (in units of
         ``threshold**2``), ``cause`` (``"objective"``, ``"search"``, or
-        ``"none"`` when CLAP is within a match of the oracle).
+        ``"floor"`` when CLAP is within a match of the oracle).
     """
     from ..clap.segment import DEFAULT_LABEL_COST, label_cost_of
     from ..partition import finish_partition, label_cost_energy
@@ -226,7 +226,7 @@ def explain_errors(kind: str = "homography", *, threshold: float, seed: int = 0,
         floor = label_cost_energy(space, oracle, data, threshold, cost) / threshold ** 2
         error = misclassification_error(res.labels, truth)
         oracle_error = misclassification_error(oracle_labels, truth)
-        cause = ("none" if (error - oracle_error) * len(data) <= 1 else
+        cause = ("floor" if (error - oracle_error) * len(data) <= 1 else
                  "objective" if energy <= floor else "search")
         rows.append({"sequence": name, "error": error, "oracle_error": oracle_error,
                      "models": res.n_models, "true_models": len(structures),

@@ -51,7 +51,11 @@ def nearest_of_type(points, types, positions, position_types):
     """
     points = np.asarray(points, dtype=float)
     types = np.asarray(types)
+    positions = np.asarray(positions, dtype=float)
     position_types = np.asarray(position_types)
+    if len(positions) == 0:  # an empty map: no landmark of any type
+        return (np.full(points.shape[:2], np.inf),
+                np.full(points.shape[:2], -1, dtype=np.intp))
     same = types[:, None] == position_types[None, :]  # (N, M)
     if points.shape[0] * same.size <= WHOLE_MAP_LIMIT:
         return _whole_map(points, same, positions)

@@ -263,7 +263,8 @@ def _judge_several(outputs):
              "Progressive-X (published)": clap["mean"] < published}
     verdict = ("reproduced" if all(below.values()) else
                "partly reproduced" if any(below.values()) else "not reproduced")
-    measured = (f"{o['sequences']} sequences x {o['seeds']} seed(s): CLAP {clap['mean']:.1f} % "
+    seeds = f"{o['seeds']} seed{'s' * (o['seeds'] != 1)}"
+    measured = (f"{o['sequences']} sequences x {seeds}: CLAP {clap['mean']:.1f} % "
                 f"mean / {clap['median']:.1f} % median ({clap['models']:.1f} models, true "
                 f"{clap['true_models']:.1f}, at {clap['threshold']:g} px); MAGSAC++ loop "
                 f"{magsac['mean']:.1f} / {magsac['median']:.1f} % (at {magsac['threshold']:g} "

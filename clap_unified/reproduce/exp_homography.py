@@ -86,7 +86,7 @@ DEVIATIONS = [
      "here": "both methods: a DLT refit on the matches within 3 px (symmetric transfer error) "
              "of the estimate, repeated once more while the inlier set does not shrink; "
              "variants polish_both (a reweighted-DLT polish after it for both) and "
-             "polish_clap_only (for CLAP alone, the package's earlier protocol)",
+             "polish_clap_only (for CLAP alone: unequal, a sensitivity check)",
      "why": "unspecified in the paper: the threshold and the number of refits (3 px, two)"},
     {"paper": "we generate 400 candidate homographies; we fix the RANSAC iteration budget "
               "to 1000",
@@ -120,12 +120,12 @@ VARIANTS = (
     Variant("polish_both", "both methods end with the reweighted-DLT polish after the refit "
             "(a refinement the paper does not describe, given to both)", "sensitivity",
             {"polish": True}, {"polish": True}),
-    Variant("polish_clap_only", "CLAP alone ends with the reweighted-DLT polish (the "
-            "package's earlier protocol's refinement; unequal: RANSAC as in the primary)",
+    Variant("polish_clap_only", "CLAP alone ends with the reweighted-DLT polish "
+            "(unequal: RANSAC as in the primary)",
             "sensitivity", {"polish": True}),
-    Variant("clap_densest", "CLAP by the package's earlier reading (protocol 'clap_densest': "
-            "first-order distance, trimming inside the densest cluster, polish for CLAP "
-            "only); RANSAC as in the primary", "sensitivity",
+    Variant("clap_densest", "CLAP by another reading of the paper's words (protocol "
+            "'clap_densest': first-order distance, trimming inside the densest cluster, "
+            "polish for CLAP only); RANSAC as in the primary", "sensitivity",
             {"method": "clap_densest"}),
     Variant("lie_linear", "CLAP clusters by the first-order distance "
             "(||Hn1^-1 Hn2 - I||_F + ||Hn2^-1 Hn1 - I||_F) / 2 instead of the logarithm",

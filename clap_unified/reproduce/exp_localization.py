@@ -268,7 +268,7 @@ def run_localization3d(params: dict, seed: int) -> dict:
                      + f" instead of {budget}", "kind": "sensitivity",
             "numbers": numbers(var_rows[f"budget_{b}"])}
     variants["lab_map"] = {
-        "label": "the asymmetric lab map of earlier versions (half field, one goal's "
+        "label": "an asymmetric lab map (half field, one goal's "
                  "crossbars, four wall markers), global mode, same budget: no mirror "
                  "image exists", "kind": "extension",
         "numbers": numbers(var_rows["lab_map"])}

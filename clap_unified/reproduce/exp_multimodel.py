@@ -119,7 +119,7 @@ def _diagnose(threshold, params, seed, rows_run):
                                f"{ran[r['sequence'], r['seed']]:.2f} %")
     n = len(rows)
     excess = {c: round(sum(r["error"] - r["oracle_error"] for r in rows if r["cause"] == c) / n,
-                       2) for c in ("objective", "search", "none")}
+                       2) for c in ("objective", "search", "floor")}
     return {"rows": rows, "summary": {
         "threshold": threshold, "error_mean": round(sum(r["error"] for r in rows) / n, 2),
         "oracle_mean": round(sum(r["oracle_error"] for r in rows) / n, 2),
@@ -185,7 +185,7 @@ def run_multimodel(params: dict, seed: int) -> dict:
     return {
         "data": f"AdelaideRMF: {numbers['sequences']} homography sequences (johnsona and "
                 f"johnsonb missing) and {numbers['fundamental']['sequences']} fundamental-matrix "
-                f"sequences, {params['seeds']} seed(s) per sequence",
+                f"sequences, {params['seeds']} seed{'s' * (params['seeds'] != 1)} per sequence",
         "protocol": "every method through segment() with the same threshold sweep, minimum "
                     "support (10 matches and 2 %) and finish (nearest model, refit, then "
                     "spatial coherence by a graph cut); each method's best single "
