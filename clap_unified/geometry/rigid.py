@@ -14,7 +14,8 @@ The rotation from ``H``:
 * ``d = 2``: the same optimum in closed form, ``theta = atan2(H_01 - H_10,
   H_00 + H_11)`` (``trace(R(theta) H)`` is ``a cos(theta) + b sin(theta)``
   with those ``a``, ``b``); no SVD, and ``R`` is exactly ``[[cos, -sin], [sin,
-  cos]]`` of that angle, the form :meth:`SE2.from_xytheta` builds.
+  cos]]`` of that angle, the form
+  :meth:`~clap_unified.geometry.se2.SE2.from_xytheta` builds.
 
 One arithmetic detail differs by dimension, on purpose: in space the centroids
 and ``H`` are ``einsum`` sums under the normalised weights (batched over
