@@ -217,13 +217,14 @@ def test_two_planes_at_any_scale_with_a_threshold_in_their_units(scale):
     assert res.n_models == 2 and sorted(res.support.tolist()) == [100, 100]
 
 
-def test_the_experiment_never_hands_labels_to_an_estimator(monkeypatch):
-    """AdelaideRMF's labels reach only the score: segment() sees the matches and nothing else."""
+def adelaidermf_and_spy(monkeypatch, name):
+    """The AdelaideRMF sequence ``name`` (skip when absent) and the (data, kwargs) of every
+    segment() call segment_matches makes from now on."""
     from clap_unified.imaging import segment_matches as sm
     from clap_unified.imaging.datasets.adelaidermf import load_adelaidermf
 
     try:
-        pair = load_adelaidermf("bonython", images=False)
+        pair = load_adelaidermf(name, images=False)
     except OSError:
         pytest.skip("AdelaideRMF is not here")
     seen = []
@@ -234,6 +235,14 @@ def test_the_experiment_never_hands_labels_to_an_estimator(monkeypatch):
         return real(space, data, method, **kw)
 
     monkeypatch.setattr(sm, "segment", spy)
+    return pair, seen
+
+
+def test_the_experiment_never_hands_labels_to_an_estimator(monkeypatch):
+    """AdelaideRMF's labels reach only the score: segment() sees the matches and nothing else."""
+    from clap_unified.imaging import segment_matches as sm
+
+    pair, seen = adelaidermf_and_spy(monkeypatch, "bonython")
     rows = sm.evaluate_adelaidermf("homography", ("clap", "ransac"), seeds=(0,),
                                    names=["bonython"])
     assert len(rows) == 2 and len(seen) == 2
@@ -323,20 +332,8 @@ def test_label_cost_energy_is_what_the_selection_minimises():
 def test_explain_errors_scores_clap_against_the_annotated_planes(monkeypatch):
     """The oracle's planes come from the labels; CLAP still sees only the matches."""
     from clap_unified.imaging import segment_matches as sm
-    from clap_unified.imaging.datasets.adelaidermf import load_adelaidermf
 
-    try:
-        pair = load_adelaidermf("elderhallb", images=False)
-    except OSError:
-        pytest.skip("AdelaideRMF is not here")
-    seen = []
-    real = sm.segment
-
-    def spy(space, data, method, **kw):
-        seen.append((np.array(data), kw))
-        return real(space, data, method, **kw)
-
-    monkeypatch.setattr(sm, "segment", spy)
+    pair, seen = adelaidermf_and_spy(monkeypatch, "elderhallb")
     (row,) = sm.explain_errors(threshold=7.0, seed=0, names=["elderhallb"])
     assert len(seen) == 1
     np.testing.assert_array_equal(seen[0][0], pair.input.matches)
