@@ -25,7 +25,15 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ._validation import as_generator, check_array, check_int, check_positive
+from ._validation import (
+    Checked,
+    as_generator,
+    check_array,
+    check_choice,
+    check_int,
+    check_positive,
+    unwrap_checked,
+)
 from .presets import resolve_preset
 from .registry import get_strategy
 from .result import ConsensusResult
@@ -170,6 +178,8 @@ def fit(space, data, method: str = "clap", *, n_hypotheses: int | None = None,
     given = {k: v for k, v in (("n_hypotheses", n_hypotheses), ("threshold", threshold),
                                ("refine", refine), ("max_hypotheses", max_hypotheses))
              if v is not None}
+    # the one check of the data on fit's path: what it calls gets them checked
+    data = data if isinstance(data, Checked) else Checked(space.check_data(data))
     space, args, options = resolve_preset(space, data, method, preset, given, options,
                                           hypotheses_given=hypotheses is not None)
     n_hypotheses = args.get("n_hypotheses", 1000)
@@ -299,12 +309,14 @@ def check_problem(space, data, threshold=None, prior=None, radius=None, *,
                   default_threshold=None) -> Problem:
     """Check the arguments every entry point takes, once; errors name the argument.
 
+    ``data`` is checked by ``space.check_data`` unless the caller has done so and
+    passes them wrapped in :class:`~clap_unified._validation.Checked`.
     ``default_threshold(space, data) -> float`` gives the threshold when none is
     passed (default: ``space.default_threshold(data)``).
     """
     if not isinstance(space, HypothesisSpace):
         raise ValueError(f"space: expected a HypothesisSpace, got {type(space).__name__}")
-    data = space.check_data(data)
+    data = unwrap_checked(data, space.check_data)
     if threshold is None:
         threshold = (default_threshold(space, data) if default_threshold is not None
                      else space.default_threshold(data))
@@ -501,7 +513,7 @@ def compare(space, data, *, methods=("randomized_hough", "ransac", "clap"),
     gen = time.perf_counter() - t0
     out = {}
     for s in strategies:
-        res = fit(space, data, s.name, n_hypotheses=n_hypotheses, threshold=threshold,
+        res = fit(space, Checked(data), s.name, n_hypotheses=n_hypotheses, threshold=threshold,
                   hypotheses=hyps if s.uses_hypotheses else None, rng=rng, preset="own",
                   **options.get(s.name, {}))
         out[s.name] = res.replace(diagnostics={"generation_seconds": gen})
@@ -526,9 +538,10 @@ def fit_line(points, method: str = "clap", *, n_hypotheses: int = 1000,
     metric : {"transfer", "chart"}
         How hypotheses are compared (:meth:`LineSpace.for_data`). The default
         ``"transfer"`` (lines compared where they cross the data region, in
-        data units) lets CLAP query neighbours on a k-d tree: about 15x faster
-        than ``"chart"``, the ``(theta, rho)`` distance of chapters 1 and 2,
-        whose ``H x H`` matrix dominates CLAP's time (``bench/bench_lines.py``).
+        data units) lets CLAP query neighbours on a k-d tree, faster than
+        ``"chart"``, the ``(theta, rho)`` distance of chapters 1 and 2, whose
+        ``H x H`` matrix dominates CLAP's time (``bench/bench_lines.py``
+        measures both).
     **options
         Passed to :func:`fit`.
 
@@ -539,6 +552,8 @@ def fit_line(points, method: str = "clap", *, n_hypotheses: int = 1000,
     >>> [round(v, 4) for v in res.space.model_to_dict(res.model)["normal"]]
     [-0.7071, 0.7071]
     """
+    check_choice(metric, "metric", {"chart", "transfer"})
+    points = Checked(LineSpace().check_data(points))  # once, for the space and for fit
     space = LineSpace.for_data(points, metric=metric)
     return fit(space, points, method, n_hypotheses=n_hypotheses, threshold=threshold, rng=rng,
                **options)

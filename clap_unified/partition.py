@@ -162,10 +162,10 @@ def select_by_label_cost(space, candidates, data, threshold: float, label_cost: 
         chosen.append(k)
         current = np.minimum(current, cost[k])
     while len(chosen) > 1:  # backward: drop a model whose data the others explain
-        total = np.minimum(cost[chosen].min(axis=0), t2).sum()
+        total = _data_cost(cost[chosen], t2)
         for k in chosen:
             rest = [j for j in chosen if j != k]
-            if np.minimum(cost[rest].min(axis=0), t2).sum() - total < label_cost:
+            if _data_cost(cost[rest], t2) - total < label_cost:
                 chosen = rest
                 break
         else:
@@ -206,7 +206,17 @@ def label_cost_energy(space, models, data, threshold: float, label_cost: float) 
     if len(models) == 0:
         return t2 * len(data)
     r = space.residuals(models.reshape((-1, *space.model_shape)), data)
-    return float(np.minimum((r * r).min(axis=0), t2).sum() + label_cost * len(models))
+    return float(_data_cost(r * r, t2) + label_cost * len(models))
+
+
+def _data_cost(squared, t2: float) -> float:
+    """``sum_i min(min_k squared[k, i], t2)``: what the data pay a set of models.
+
+    Each datum pays its squared residual to the nearest model, truncated at
+    ``t2``: the first term of :func:`label_cost_energy`, and what
+    :func:`select_by_label_cost` compares when it removes a model.
+    """
+    return np.minimum(squared.min(axis=0), t2).sum()
 
 
 def refine_hypotheses(space, models, data, threshold: float, *, rounds: int = 1) -> np.ndarray:

@@ -23,6 +23,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ._validation import Checked
 from .cli import EXIT_STATUS, _Parser
 from .imaging.segment_matches import SEGMENT_DEFAULTS, segment_matches
 from .io import MAX_HYPOTHESES, MAX_ROWS, float_option, int_option, read_points_csv
@@ -40,10 +41,10 @@ __all__ = ["KINDS", "MAX_SEGMENT_ROWS", "MAX_SEGMENT_WORK", "MAX_T_LINKAGE_ROWS"
 #: ``segment`` reads at most this many rows.
 MAX_SEGMENT_ROWS = 100_000
 #: ``--hypotheses`` times the number of rows at most: CLAP scores every hypothesis on every
-#: datum (2000 hypotheses on 20,000 points: about 3 s and 1 GB).
+#: datum, in time and memory proportional to this product.
 MAX_SEGMENT_WORK = 50_000_000
-#: ``--method t_linkage`` at most this many rows: it compares every pair of data (2000 points:
-#: about 4 s and 0.4 GB; 5000: 24 s and 1.2 GB).
+#: ``--method t_linkage`` at most this many rows: it compares every pair of data, in time and
+#: memory that grow as the square of the rows.
 MAX_T_LINKAGE_ROWS = 2000
 
 #: What ``segment`` prints, as its ``--help`` shows it.
@@ -97,9 +98,11 @@ class SegmentKind:
     n_hypotheses: int
 
 
-def _in_space(for_data: Callable) -> Callable:
-    """A kind's ``run`` calling :func:`~clap_unified.segment` in ``for_data(data)``."""
+def _in_space(space: type, for_data: Callable) -> Callable:
+    """A kind's ``run`` calling :func:`~clap_unified.segment` in ``for_data(data)``: the data
+    checked once, by ``space().check_data``, then handed to both."""
     def run(kind, data, method, threshold, n_hypotheses, seed, min_support, coherence=None):
+        data = Checked(space().check_data(data))
         return segment(for_data(data), data, method, n_hypotheses=n_hypotheses,
                        threshold=threshold, rng=seed, min_support=min_support,
                        coherence=0.0 if coherence is None else coherence)
@@ -118,13 +121,13 @@ def _matches(kind, data, method, threshold, n_hypotheses, seed, min_support, coh
 KINDS = {
     "line": SegmentKind(
         space=LineSpace, columns=2,
-        run=_in_space(lambda pts: LineSpace.for_data(pts, metric="transfer")),  # as fit line
+        run=_in_space(LineSpace, lambda pts: LineSpace.for_data(pts, metric="transfer")),
         row="x,y", metavar="POINTS.csv", what="2D lines",
         model='{"normal": [a, b], "offset": c} (a*x + b*y = c)',
         threshold="distance in data units (default 2%% of the data's RMS radius, as fit line)",
         n_hypotheses=_N_HYPOTHESES),
     "circle": SegmentKind(
-        space=CircleSpace, columns=2, run=_in_space(lambda pts: CircleSpace()),
+        space=CircleSpace, columns=2, run=_in_space(CircleSpace, lambda pts: CircleSpace()),
         row="x,y", metavar="POINTS.csv", what="circles",
         model='{"centre": [x, y], "radius": r}',
         threshold="distance in data units (default 1%% of the data's RMS radius)",

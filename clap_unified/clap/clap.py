@@ -120,7 +120,8 @@ def run_clap(space, data, hypotheses: HypothesisSet, *, threshold: float, prior=
     bandwidth_quantile : float
         Quantile of the k-nearest-neighbour distances used as the automatic
         bandwidth; lower it when only a few percent of the hypotheses can be
-        correct (homographies from 4-samples at 50 % outlier matches: 6 %).
+        correct (homographies from 4-samples at 50 % outlier matches: at most
+        ``0.5 ** 4``, about 6 %, of the samples are all inliers).
     centre : {"medoid", "karcher", "log_euclidean", "split", "median"}
         ``"split"`` needs a space whose capabilities include ``split_mean``.
     rejection : {"trim", "mad", "none"}

@@ -32,7 +32,7 @@ from __future__ import annotations
 import numpy as np
 
 from .. import _compiled
-from .._validation import check_array
+from .._validation import check_array, unwrap_checked
 from .homography import Homography
 
 __all__ = ["HomographyTransfer", "region_anchors"]
@@ -66,7 +66,7 @@ def region_anchors(points, *, margin: float = 0.1) -> np.ndarray:
     >>> region_anchors(pts).tolist()
     [[10.0, 1.0], [90.0, 1.0], [90.0, 9.0], [10.0, 9.0], [50.0, 5.0]]
     """
-    p = check_array(points, "points", shape=(None, 2))
+    p = unwrap_checked(points, lambda q: check_array(q, "points", shape=(None, 2)))
     if not 0 <= margin < 0.5:
         raise ValueError(f"margin: expected a number in [0, 0.5), got {margin!r}")
     if len(p) == 0:

@@ -35,13 +35,13 @@ __all__ = ["MAX_IMAGE_PIXELS", "MAX_MATCHES", "add_fit_homography", "fit_homogra
 #: ``--method`` choices: the protocols and every registered homography strategy.
 METHODS = method_names()
 
-#: Images with more pixels are refused: two 24-megapixel photographs take about 25 s and 6 GB
-#: of memory (SIFT, then the panorama canvas).
+#: Images with more pixels are refused: SIFT and the panorama canvas grow with the pixels, in
+#: time and in memory.
 MAX_IMAGE_PIXELS = 25_000_000
 
-#: ``fit homography`` reads at most this many matches: every method answers within a few
-#: seconds there (RANSAC's 1000 hypotheses on 100,000 matches: about 3 s), ten times as many
-#: take 20 s (images give thousands).
+#: ``fit homography`` reads at most this many matches (images give thousands): every method
+#: should answer within a few seconds there; ``bench/bench_cli_limits.py`` runs each command
+#: at its limits and prints the time and memory they take.
 MAX_MATCHES = 100_000
 
 _METHOD_HELP = ("homography estimator (default clap): clap (the library's CLAP), clap_paper "

@@ -67,7 +67,7 @@ right.
 
 from __future__ import annotations
 
-from .._validation import check_points
+from .._validation import Checked
 from ..fitting import fit
 from ..presets import Preset, Settings, protocol_presets
 from ..result import ConsensusResult
@@ -171,8 +171,8 @@ def estimate_homography(matches, method: str = "clap", *, rng=None, quality=None
     >>> res.success, np.round(res.model[:2, 2], 3).tolist()
     (True, [4.0, 2.0])
     """
-    data = check_points(matches, "matches", dim=4, min_count=HomographySpace.min_samples)
-    if len(data) < MIN_MATCHES:
+    data = HomographySpace().check_data(matches)  # the one check of the matches: fit and
+    if len(data) < MIN_MATCHES:                   # the preset's space get them Checked
         raise ValueError(f"matches: too few matches ({len(data)}); at least {MIN_MATCHES} "
                          "are needed for a robust homography")
     protocol = protocol_presets(HomographySpace.name).get(method)
@@ -183,8 +183,8 @@ def estimate_homography(matches, method: str = "clap", *, rng=None, quality=None
         protocol = protocol.replace(max_hypotheses=options.pop("max_hypotheses"))
     strategy = protocol.strategy
     sampling = None if quality is None else {"quality": quality}
-    res = fit(HomographySpace(), data, strategy, rng=rng, sampling=sampling, preset=protocol,
-              **options)
+    res = fit(HomographySpace(), Checked(data), strategy, rng=rng, sampling=sampling,
+              preset=protocol, **options)
     return res if strategy == method else res.replace(method=method)
 
 

@@ -16,8 +16,8 @@ from .localize2d import localize2d, observation_data
 __all__ = ["MAX_DETECTIONS", "register", "read_observations"]
 
 #: Detections in one frame at most (a robot sees a few dozen): the candidate poses grow as
-#: the square of their number. 100 detections of one type give up to about 33000 candidates,
-#: 1 to 4 s with any method; 200 give 130000, and RANSAC then scores them for 20 s.
+#: the square of their number (``bench/bench_cli_limits.py`` times the command at this
+#: limit, all detections of one type).
 MAX_DETECTIONS = 100
 
 

@@ -17,8 +17,8 @@ __all__ = ["MAX_DETECTIONS", "MAX_LANDMARKS", "register"]
 #: Detections in OBS.json at most.
 MAX_DETECTIONS = 500
 #: Landmarks in MAP.json at most: the candidates come from map triplets, whose number grows
-#: as the cube (with 500 detections, 100 landmarks of one type take about 2.5 s and 0.8 GB,
-#: 200 about 20 s).
+#: as the cube (``bench/bench_cli_limits.py`` times the command and measures its memory at
+#: these limits, every landmark of one type).
 MAX_LANDMARKS = 100
 
 

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .._validation import as_generator, check_int
+from .._validation import Checked, as_generator, check_int
 from ..fitting import fit
 from ..registry import Segmenter, register_segmenter
 from ..result import Segmentation
@@ -55,8 +55,8 @@ def run_sequential(space, data, hypotheses=None, *, threshold: float, rng=None,
     while len(models) < max_models and len(rest) >= max(min_support, space.min_samples):
         hyps = (space.hypotheses(data[rest], n_hypotheses, rng=g, neighbours=neighbours)
                 if neighbours is not None else None)
-        res = fit(space, data[rest], strategy, n_hypotheses=n_hypotheses, threshold=threshold,
-                  rng=g, hypotheses=hyps)
+        res = fit(space, Checked(data[rest]), strategy, n_hypotheses=n_hypotheses,
+                  threshold=threshold, rng=g, hypotheses=hyps)
         if not res.success or res.n_inliers < min_support:
             if not models:
                 reason = (res.reason if not res.success else

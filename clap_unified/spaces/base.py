@@ -153,15 +153,17 @@ class HypothesisSpace(ABC):
         ``radius``; others ignore them. ``sampling`` holds space-specific
         sampling options (e.g. the match quality of homographies);
         ``neighbours=k`` draws local samples in every space (a seed and others
-        among its ``k`` nearest data).
+        among its ``k`` nearest data). ``data`` is as :meth:`check_data` returns it
+        (what :func:`~clap_unified.fit` passes): it is not checked again.
         """
+        from .._validation import Checked
         from .sampling import generate_hypotheses
 
         unknown = sorted(set(sampling) - {"neighbours"})
         if unknown:
             raise ValueError(f"sampling: the {self.name} space takes only 'neighbours' (local "
                              f"sampling), got {unknown}")
-        return generate_hypotheses(self, data, n, rng=rng, **sampling)
+        return generate_hypotheses(self, Checked(data), n, rng=rng, **sampling)
 
     def near_prior(self, prior, models, radius) -> np.ndarray:
         """Boolean mask of the ``models`` within ``radius`` of ``prior`` (the local gate).

@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .._validation import check_points
+from .._validation import check_points, unwrap_checked
 from ..geometry.fundamental import eight_point, sampson_denominator, sampson_error, seven_point
 from ..geometry.homography_arithmetic import normalise_points
 from ..geometry.projective import ProjectiveMatrices, normalise_projective
@@ -92,7 +92,8 @@ class FundamentalSpace(HypothesisSpace):
         >>> FundamentalSpace.for_data(np.c_[src, src + 5.0]).manifold
         ProjectiveMatrices(framed=True)
         """
-        data = check_points(matches, "matches", dim=4, min_count=cls.min_samples)
+        data = unwrap_checked(matches, lambda m: check_points(m, "matches", dim=4,
+                                                              min_count=cls.min_samples))
         T1, T2 = normalise_points(data.reshape(-1, 2, 2).transpose(1, 0, 2))[1]
         space = cls()
         try:

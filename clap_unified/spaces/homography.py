@@ -29,7 +29,15 @@ from __future__ import annotations
 import numpy as np
 
 from .. import _compiled
-from .._validation import as_generator, check_array, check_choice, check_int, check_points
+from .._validation import (
+    Checked,
+    as_generator,
+    check_array,
+    check_choice,
+    check_int,
+    check_points,
+    unwrap_checked,
+)
 from ..geometry.homography_arithmetic import (
     SINGULAR_RATIO,
     _centre_scale,
@@ -178,12 +186,13 @@ class HomographySpace(HypothesisSpace):
         """
         from ..geometry.homography_frame import HomographyInFrame
 
-        data = check_points(matches, "matches", dim=4, min_count=cls.min_samples)
+        data = unwrap_checked(matches, lambda m: check_points(m, "matches", dim=4,
+                                                              min_count=cls.min_samples))
         space = cls(residual=residual, normalization="h33", polish=polish)
         if metric == "transfer":
             from ..geometry.homography_transfer import HomographyTransfer, region_anchors
 
-            space._manifold = HomographyTransfer(region_anchors(data[:, :2]))
+            space._manifold = HomographyTransfer(region_anchors(Checked(data[:, :2])))
             space._framed = True
             return space
         T1, T2 = normalise_points(data.reshape(-1, 2, 2).transpose(1, 0, 2))[1]
@@ -396,11 +405,12 @@ class HomographySpace(HypothesisSpace):
         if neighbours is not None:
             if quality is not None:
                 raise ValueError("neighbours: local sampling does not take a quality")
-            return generate_hypotheses(self, data, n, rng=rng, batch_size=n + n // 4 + 8,
-                                       neighbours=neighbours)
+            return generate_hypotheses(self, Checked(data), n, rng=rng,
+                                       batch_size=n + n // 4 + 8, neighbours=neighbours)
         if quality is None:
             # one batch with a margin for degenerate samples, not a second full batch
-            return generate_hypotheses(self, data, n, rng=rng, batch_size=n + n // 4 + 8)
+            return generate_hypotheses(self, Checked(data), n, rng=rng,
+                                       batch_size=n + n // 4 + 8)
         q = check_array(quality, "quality", shape=(len(data),))
         pools = check_int(pools, "pools", minimum=1)
         order = np.argsort(q, kind="stable")

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .._validation import check_choice, check_points
+from .._validation import Checked, check_choice, check_points, unwrap_checked
 from ..geometry.line_transfer import LineTransfer
 from ..geometry.lines import Line2D
 from ..geometry.lines_nd import principal_axes
@@ -76,11 +76,11 @@ class LineSpace(HypothesisSpace):
         LineTransfer(anchors=5)
         """
         check_choice(metric, "metric", {"chart", "transfer"})
-        pts = check_points(points, "points", dim=2, min_count=2)
+        pts = unwrap_checked(points, lambda p: check_points(p, "points", dim=2, min_count=2))
         if metric == "transfer":
             from ..geometry.homography_transfer import region_anchors
 
-            anchors = region_anchors(pts)
+            anchors = region_anchors(Checked(pts))
             if len(np.unique(anchors, axis=0)) < 2:  # all points at one place: no region
                 anchors = anchors[4] + np.array([[-1.0, 0], [1, 0], [0, -1], [0, 1], [0, 0]])
             return cls(manifold=LineTransfer(anchors))

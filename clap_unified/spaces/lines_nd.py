@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .._validation import check_int, check_points
+from .._validation import check_int, check_points, unwrap_checked
 from ..geometry.lines_nd import (
     LineND,
     canonical_lines_nd,
@@ -76,10 +76,7 @@ class LineNDSpace(HypothesisSpace):
         >>> LineNDSpace.for_data([[0.0, 0, 0], [2, 0, 0]])
         LineNDSpace(LineND(3, length_scale=1, origin=[1.0, 0.0, 0.0]))
         """
-        pts = np.asarray(points, dtype=float)
-        if pts.ndim != 2 or pts.shape[1] < 2:
-            raise ValueError(f"points: expected shape (N, d) with d >= 2, got {pts.shape}")
-        pts = check_points(pts, "points", dim=pts.shape[1], min_count=1)
+        pts = unwrap_checked(points, _check_nd_points)
         centre = pts.mean(axis=0)
         radius = float(np.sqrt(np.mean(np.sum((pts - centre) ** 2, axis=1))))
         return cls(pts.shape[1], length_scale=max(radius, np.finfo(float).tiny), origin=centre)
@@ -151,3 +148,11 @@ class LineNDSpace(HypothesisSpace):
         """
         model = np.asarray(model, dtype=float)
         return predict_coordinate(model, x, check_int(axis, "axis", minimum=0))
+
+
+def _check_nd_points(points) -> np.ndarray:
+    """``points`` as an ``(N, d)`` array of finite points, ``d >= 2``, ``N >= 1``."""
+    pts = np.asarray(points, dtype=float)
+    if pts.ndim != 2 or pts.shape[1] < 2:
+        raise ValueError(f"points: expected shape (N, d) with d >= 2, got {pts.shape}")
+    return check_points(pts, "points", dim=pts.shape[1], min_count=1)

@@ -15,8 +15,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from .._validation import check_points, check_positive
-from ..geometry.rigid import pose_from_rt, weighted_kabsch
+from .._validation import Checked, check_points, check_positive
+from ..geometry.rigid import pose_from_rt, transform_points, weighted_kabsch
 from ..geometry.se3 import SE3
 from .base import Capabilities, HypothesisSpace
 
@@ -159,7 +159,8 @@ class Correspondence3DSpace(HypothesisSpace):
         ``exhaustive=False, max_draws=n`` draws exactly ``n`` triplets (the
         budget of :func:`~clap_unified.localization.align_correspondences`),
         keeping those that pass the checks (see
-        :func:`~clap_unified.spaces.generate_hypotheses`).
+        :func:`~clap_unified.spaces.generate_hypotheses`). ``data`` is checked
+        (:meth:`check_data`).
         """
         from .sampling import generate_hypotheses
 
@@ -167,7 +168,7 @@ class Correspondence3DSpace(HypothesisSpace):
         if unknown:
             raise ValueError(f"sampling: the {self.name} space takes exhaustive and max_draws, "
                              f"got {unknown}")
-        return generate_hypotheses(self, data, n, rng=rng, **sampling)
+        return generate_hypotheses(self, Checked(data), n, rng=rng, **sampling)
 
     def near_prior(self, prior, models, radius) -> np.ndarray:
         """Models within ``radius`` of ``prior`` (a distance or a pair, see ``near_pose``)."""
@@ -201,9 +202,7 @@ class Correspondence3DSpace(HypothesisSpace):
     def residuals(self, models, data) -> np.ndarray:
         """``|R p + t - q|`` for every model and correspondence, shape ``(H, N)``."""
         data = np.asarray(data, dtype=float)
-        T = np.asarray(models, dtype=float).reshape(-1, 4, 4)
-        moved = np.einsum("hij,nj->hni", T[:, :3, :3], data[:, :3]) + T[:, None, :3, 3]
-        return np.linalg.norm(moved - data[None, :, 3:], axis=-1)
+        return np.linalg.norm(transform_points(models, data[:, :3]) - data[None, :, 3:], axis=-1)
 
     def refit(self, data, weights=None, initial=None):
         """Weighted Kabsch on all the given correspondences; None when degenerate."""

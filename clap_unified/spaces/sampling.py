@@ -7,7 +7,7 @@ from math import comb
 
 import numpy as np
 
-from .._validation import as_generator, check_choice, check_int
+from .._validation import Checked, as_generator, check_choice, check_int, unwrap_checked
 from .hypothesis_set import HypothesisSet
 
 __all__ = ["generate_hypotheses", "enumerate_hypotheses", "sample_local_subsets",
@@ -177,7 +177,7 @@ def enumerate_hypotheses(space, data) -> HypothesisSet:
     >>> len(hs), hs.n_draws, hs.exhaustive
     (6, 6, True)
     """
-    data = space.check_data(data)
+    data = unwrap_checked(data, space.check_data)
     idx = np.array(list(combinations(range(len(data)), space.min_samples)), dtype=np.intp)
     idx = idx.reshape(-1, space.min_samples)
     models, owner = space.solve_minimal(data, idx)
@@ -233,14 +233,14 @@ def generate_hypotheses(space, data, n: int = 1000, *, rng=None,
     >>> hs.models.shape, hs.samples.shape, hs.exhaustive
     ((200, 2), (200, 2), False)
     """
-    data = space.check_data(data)
+    data = unwrap_checked(data, space.check_data)
     n = check_int(n, "n", minimum=1)
     if exhaustive not in ("auto", True, False):
         check_choice(exhaustive, "exhaustive", {"auto", True, False})
     m = space.min_samples
     n_subsets = comb(len(data), m)
     if neighbours is None and (exhaustive is True or (exhaustive == "auto" and n_subsets <= n)):
-        return enumerate_hypotheses(space, data)
+        return enumerate_hypotheses(space, Checked(data))
     if neighbours is not None:
         coords = (np.asarray(data, dtype=float).reshape(len(data), -1) if coords is None
                   else coords)
