@@ -40,8 +40,8 @@ METHODS = method_names()
 MAX_IMAGE_PIXELS = 25_000_000
 
 #: ``fit homography`` reads at most this many matches (images give thousands): every method
-#: should answer within a few seconds there; ``bench/bench_cli_limits.py`` runs each command
-#: at its limits and prints the time and memory they take.
+#: should answer within a few seconds there; ``bench/bench_cli_limits.py`` runs the command
+#: at this limit and prints the time and memory it takes.
 MAX_MATCHES = 100_000
 
 _METHOD_HELP = ("homography estimator (default clap): clap (the library's CLAP), clap_paper "
