@@ -163,7 +163,8 @@ class HypothesisSpace(ABC):
         if unknown:
             raise ValueError(f"sampling: the {self.name} space takes only 'neighbours' (local "
                              f"sampling), got {unknown}")
-        return generate_hypotheses(self, Checked(data), n, rng=rng, **sampling)
+        return generate_hypotheses(self, Checked(np.asarray(data, dtype=float)), n, rng=rng,
+                                   **sampling)
 
     def near_prior(self, prior, models, radius) -> np.ndarray:
         """Boolean mask of the ``models`` within ``radius`` of ``prior`` (the local gate).

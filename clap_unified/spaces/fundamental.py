@@ -92,8 +92,7 @@ class FundamentalSpace(HypothesisSpace):
         >>> FundamentalSpace.for_data(np.c_[src, src + 5.0]).manifold
         ProjectiveMatrices(framed=True)
         """
-        data = unwrap_checked(matches, lambda m: check_points(m, "matches", dim=4,
-                                                              min_count=cls.min_samples))
+        data = unwrap_checked(matches, cls().check_data)
         T1, T2 = normalise_points(data.reshape(-1, 2, 2).transpose(1, 0, 2))[1]
         space = cls()
         try:

@@ -186,8 +186,7 @@ class HomographySpace(HypothesisSpace):
         """
         from ..geometry.homography_frame import HomographyInFrame
 
-        data = unwrap_checked(matches, lambda m: check_points(m, "matches", dim=4,
-                                                              min_count=cls.min_samples))
+        data = unwrap_checked(matches, cls().check_data)
         space = cls(residual=residual, normalization="h33", polish=polish)
         if metric == "transfer":
             from ..geometry.homography_transfer import HomographyTransfer, region_anchors
@@ -402,6 +401,7 @@ class HomographySpace(HypothesisSpace):
         from .sampling import generate_hypotheses, sample_subsets
 
         n = check_int(n, "n", minimum=1)
+        data = np.asarray(data, dtype=float)  # checked (check_data) by the caller
         if neighbours is not None:
             if quality is not None:
                 raise ValueError("neighbours: local sampling does not take a quality")

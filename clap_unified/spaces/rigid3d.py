@@ -168,7 +168,8 @@ class Correspondence3DSpace(HypothesisSpace):
         if unknown:
             raise ValueError(f"sampling: the {self.name} space takes exhaustive and max_draws, "
                              f"got {unknown}")
-        return generate_hypotheses(self, Checked(data), n, rng=rng, **sampling)
+        return generate_hypotheses(self, Checked(np.asarray(data, dtype=float)), n, rng=rng,
+                                   **sampling)
 
     def near_prior(self, prior, models, radius) -> np.ndarray:
         """Models within ``radius`` of ``prior`` (a distance or a pair, see ``near_pose``)."""
