@@ -64,7 +64,7 @@ def test_reduced_quick_run_writes_claims_tables_and_figures(serial_run):
         assert (out / "figures" / f"{name}.png").stat().st_size > 1000
         assert (out / "figures" / f"{name}.svg").stat().st_size > 1000
     md = (out / "claims.md").read_text()
-    assert "| claim (the paper's words) | verdict on the paper's protocol |" in md
+    assert "| # | claim | verdict on the paper's protocol | the number that carries it |" in md
     # the reproduced 2D claims carry controls under which the same rule says "not reproduced"
     assert tested["2d_symmetry"]["controls"][0]["verdict"] == "not reproduced"
     assert tested["2d_outliers"]["controls"][0]["verdict"] == "not reproduced"
@@ -278,7 +278,7 @@ def test_variants_are_judged_by_the_same_rule_and_flips_are_named():
     assert {"paper": "MoCap", "here": "simulated", "why": "data unavailable"} in c["deviations"]
     assert all(d["why"].startswith(WHY) for d in c["deviations"])
     md = claims_markdown(list(claims.values()))
-    assert "depends on 1 of 2 alternatives" in md and "a perturbed CLAP" in md
+    assert "(1 of 2 alternatives differs)" in md and "a perturbed CLAP" in md
 
 
 def test_every_claim_states_its_deviations_and_they_say_why():
@@ -488,3 +488,42 @@ def test_a_reused_experiment_reads_as_a_fresh_one(serial_run, tmp_path):
     assert again.claims == fresh.claims
     assert [r["key"] for c in again.claims for r in c["sensitivity"] + c["controls"]] == \
         [r["key"] for c in fresh.claims for r in c["sensitivity"] + c["controls"]]
+
+
+#: The longest cell of the front page's claims table (characters): one short line per claim.
+MAX_TABLE_CELL = 100
+
+
+def _table_cells(md: str) -> list[str]:
+    table = md.split("\n\n")[0].splitlines()[2:]
+    return [cell.strip() for row in table for cell in row.strip("|").split(" | ")]
+
+
+def test_front_page_table_is_one_short_line_per_claim_and_says_protocol_once():
+    outputs = _numbers_3d(0.95, 0.6, n=200)
+    outputs["localization3d"]["protocol"] = "local mode, gated"
+    claims = [c for c in evaluate_claims(outputs) if c["verdict"] != "data unavailable"]
+    assert {c["key"] for c in claims} == {"3d_outliers", "3d_spurious"}
+    # a claim read from two experiments with the same protocol, and one with two protocols
+    twice = dict(claims[0], key="twice", protocol=["the paper's, as written", "the paper's, "
+                                                    "as written"])
+    two = dict(claims[0], key="two", protocol=["as written", "tuned"])
+    md = claims_markdown([*claims, twice, two])
+    cells = _table_cells(md)
+    assert len(cells) == 4 * 4 and max(map(len, cells)) < MAX_TABLE_CELL, cells
+    blocks = md.split("<details>")[1:]
+    assert len(blocks) == 4
+    for block in blocks:
+        assert block.count("Protocol:") == 1, block
+    assert "(1) as written. (2) tuned." in blocks[3]
+    # nothing dropped, only moved: the paper's words, the full measurement and the data are in
+    # the claim's block
+    for c, block in zip(claims, blocks, strict=False):
+        assert c["claim"] in block and c["measured"] in block and c["data"][0] in block
+    assert claims[1]["headline"].startswith("largest share of wrong poses")
+
+
+def test_the_evaluated_claims_keep_the_front_page_short():
+    for key in ("3d_outliers", "3d_spurious"):
+        c = next(c for c in evaluate_claims(_numbers_3d(0.95, 0.6, n=200)) if c["key"] == key)
+        assert len(c["title"]) < MAX_TABLE_CELL and len(c["headline"]) < MAX_TABLE_CELL

@@ -405,8 +405,8 @@ def claims_markdown(claims, details: bool = True) -> str:
         verdict = f"**{c['verdict']}**"
         if c.get("depends_on"):
             n = len(c["depends_on"])
-            verdict += (f" ({n} of {len(c.get('sensitivity', []))} alternative"
-                        + (" differs)" if n == 1 else "s differ)"))
+            verdict += (f" ({n} of {len(c.get('sensitivity', []))} alternatives "
+                        + ("differs)" if n == 1 else "differ)"))
         lines.append(_row([i, c.get("title") or c["key"], verdict,
                            c.get("headline") or c["measured"]]))
     if details:
