@@ -190,6 +190,10 @@ def _text_sizes(tree: ast.AST, rc, axes_off=frozenset()) -> list[tuple[str, floa
                 if kw.arg in ("fontsize", "size") and isinstance(kw.value, ast.Constant):
                     size = _size_pt(kw.value.value, rc) or size
             found.append(("title", size))
+        if (name == "set_fontsize" and node.args and isinstance(node.args[0], ast.Constant)
+                and isinstance(node.func.value, ast.Attribute)
+                and node.func.value.attr == "title"):  # ax.title.set_fontsize(9)
+            found.append(("title", _size_pt(node.args[0].value, rc) or rc["font.size"]))
         if name == "tick_params":
             for kw in node.keywords:
                 if kw.arg == "labelsize" and isinstance(kw.value, ast.Constant):
@@ -475,12 +479,14 @@ def test_tiny_titles_and_tick_labels_fail():
              _cell("ax.tick_params(labelsize=8)", narrow),
              _cell("ax.plot(x)", wide),              # the style's 9 pt ticks: 6.9 px
              _cell('ax.axis("off")', wide),           # no ticks drawn, no title
-             _cell("show_grid(axes)", wide)]          # a library function's 8 pt titles
+             _cell("show_grid(axes)", wide),          # a library function's 8 pt titles
+             _cell('ax.axis("off")\nax.title.set_fontsize(9)', wide)]  # 7.4 px
     defects = figure_defects({"cells": cells}, library={}, rc=rc,
                              texts={"show_grid": [("title", 8.0)]})
     where = [d.split(": ")[0] + ": " + d.split(": ")[1].split(" ")[0] for d in defects]
     assert where == ["cell 1, figure 0: title", "cell 3, figure 0: tick",
-                     "cell 5, figure 0: tick", "cell 5, figure 0: title"], defects
+                     "cell 5, figure 0: tick", "cell 5, figure 0: title",
+                     "cell 6, figure 0: title"], defects
 
 
 def _grid(fig, hole=None, last_empty=False, say=False):
