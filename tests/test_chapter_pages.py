@@ -188,3 +188,31 @@ def test_readme_numbers_the_chapters_as_the_book_does():
         first = json.loads((BOOK / f"{stem}.ipynb").read_text(encoding="utf-8"))["cells"][0]
         heading = _text(first["source"]).splitlines()[0].removeprefix("# ").strip()
         assert title.startswith(heading.split(":")[0]), (title, heading)
+
+
+#: Words about the project's own work rather than the reader's subject (the football goal of
+#: the RoboCup field is the subject, and stays).
+PROJECT_TALK = re.compile(
+    r"\bhonest\w*|\bwork items?\b|\bwe aim\b|\bTODO\b|\bgoals? (?:the library|of the "
+    r"(?:library|project|multi-model work))|\bthe library set\b|\bagainst its goals\b|"
+    r"\b(?:library|project)'s (?:work )?(?:goals?|targets?)\b", flags=re.IGNORECASE)
+
+
+def project_talk(texts) -> list[str]:
+    """The phrases of ``texts`` that speak of the project's work, not of the subject."""
+    return [m.group(0) for t in texts for m in PROJECT_TALK.finditer(t)]
+
+
+def test_no_page_speaks_of_the_project_s_goals():
+    texts = [_text(c["source"]) for p in CHAPTERS
+             for c in json.loads(p.read_text(encoding="utf-8"))["cells"]]
+    texts += [p.read_text(encoding="utf-8") for p in BOOK.parent.glob("*.md")]
+    assert not project_talk(texts), project_talk(texts)
+
+
+def test_project_talk_is_caught_and_the_football_goal_is_not():
+    assert project_talk(["So the honest reading is this", "The goals the library set its",
+                         "the goals of the multi-model work"]) == [
+        "honest", "goals the library", "goals of the multi-model work"]
+    assert project_talk(["x towards the opponent goal", "the goals are identical",
+                         "one goal's crossbars"]) == []

@@ -382,37 +382,48 @@ def _row(cells) -> str:
 
 
 def claims_markdown(claims, details: bool = True) -> str:
-    """The claims as Markdown: a table of verdicts, then each claim's protocol, deviations,
-    sensitivity and controls in a collapsed block (the book's front page shows the same).
+    """The claims as Markdown: one short line per claim (its title, the verdict on the paper's
+    protocol, the number that carries it), then each claim's words, measurement, data,
+    protocol, deviations, sensitivity and controls in a collapsed block (the book's front page
+    shows the same).
 
     Examples
     --------
-    >>> claim = {"claim": "CLAP wins.", "section": "V", "verdict": "reproduced",
-    ...          "summary": "reproduced", "measured": "CLAP 0.9, RANSAC 0.5",
-    ...          "data": ["toy: 3 scenes"], "chapter": "02_line_fitting"}
+    >>> claim = {"key": "k", "title": "CLAP wins", "claim": "CLAP wins.", "section": "V",
+    ...          "verdict": "reproduced", "summary": "reproduced", "headline": "CLAP 0.9",
+    ...          "measured": "CLAP 0.9, RANSAC 0.5", "data": ["toy: 3 scenes"],
+    ...          "chapter": "02_line_fitting"}
     >>> print(claims_markdown([claim], details=False))
-    | claim (the paper's words) | verdict on the paper's protocol | what was measured | data |
+    | # | claim | verdict on the paper's protocol | the number that carries it |
     |---|---|---|---|
-    | CLAP wins. *(V)* | **reproduced** | CLAP 0.9, RANSAC 0.5 | toy |
+    | 1 | CLAP wins | **reproduced** | CLAP 0.9 |
     <BLANKLINE>
     """
-    lines = ["| claim (the paper's words) | verdict on the paper's protocol | what was measured "
-             "| data |", "|---|---|---|---|"]
-    for c in claims:
-        data = "; ".join(d.split(":")[0] for d in c["data"]) or "-"
-        reading = f" Read as: {c['reading']}." if c.get("reading") else ""
+    lines = ["| # | claim | verdict on the paper's protocol | the number that carries it |",
+             "|---|---|---|---|"]
+    for i, c in enumerate(claims, 1):
         verdict = f"**{c['verdict']}**"
         if c.get("depends_on"):
-            verdict += f"; depends on {len(c['depends_on'])} of " \
-                       f"{len(c.get('sensitivity', []))} alternatives (below)"
-        lines.append(_row([f"{c['claim']} *({c['section']})*{reading}", verdict,
-                           c["measured"], data]))
+            n = len(c["depends_on"])
+            verdict += (f" ({n} of {len(c.get('sensitivity', []))} alternatives "
+                        + ("differs)" if n == 1 else "differ)"))
+        lines.append(_row([i, c.get("title") or c["key"], verdict,
+                           c.get("headline") or c["measured"]]))
     if details:
         for i, c in enumerate(claims, 1):
-            lines += ["", f"<details><summary>{i}. {c['key']}: {c['verdict']}: deviations, "
-                      "alternatives, controls</summary>", "",
-                      f"**{c.get('summary', c['verdict'])}.** "
-                      + " ".join(f"Protocol: {p}." for p in c.get("protocol", []))]
+            reading = f" Read as: {c['reading']}." if c.get("reading") else ""
+            protocols = list(dict.fromkeys(c.get("protocol", [])))
+            body = [f"**{c.get('summary', c['verdict'])}.**",
+                    f"*The paper:* {c['claim']} *({c['section']})*{reading}",
+                    f"*Measured:* {c['measured']}.",
+                    f"*Data:* {'; '.join(c['data']) or '-'}."]
+            if protocols:
+                body.append("*Protocol:* " + " ".join(
+                    f"({k}) {p}." if len(protocols) > 1 else f"{p}."
+                    for k, p in enumerate(protocols, 1)))
+            lines += ["", f"<details><summary>{i}. {c.get('title') or c['key']} "
+                      f"(<code>{c['key']}</code>): {c['verdict']}</summary>", ""]
+            lines += [x for line in body for x in (line, "")][:-1]
             if c.get("deviations"):
                 lines += ["", "| the paper | here | why |", "|---|---|---|"]
                 lines += [_row([d["paper"], d["here"], d["why"]]) for d in c["deviations"]]

@@ -121,7 +121,7 @@ def plot_hypotheses(ax, models, *, values=None, origin=(0.0, 0.0), truth=None, c
         sub = ax.inset_axes([0.6, 0.6, 0.38, 0.38])
         sub.set_xlim(inset[0], inset[1])
         sub.set_ylim(inset[2], inset[3])
-        sub.tick_params(labelsize=8)
+        sub.tick_params(labelsize=9)  # 8 px or more once a 1000 px figure fits the column
         ax.indicate_inset_zoom(sub, edgecolor="0.3")
         targets.append(sub)
     for target in targets:

@@ -40,7 +40,7 @@ def show_image_grid(axes, images, titles) -> None:
         ax.axis("off")
     for ax, img, title in zip(axes, images, titles, strict=False):
         ax.imshow(img[..., ::-1] if img.ndim == 3 else img, cmap="gray")
-        ax.set_title(title, fontsize=8)
+        ax.set_title(title)  # the book style's axes.titlesize
 
 
 def plot_cdf(ax, values, label: str, **style) -> None:
