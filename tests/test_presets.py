@@ -4,6 +4,7 @@
 import dataclasses
 import json
 import pickle
+import re
 
 import numpy as np
 import pytest
@@ -13,11 +14,13 @@ from clap_unified.cli import main
 from clap_unified.imaging.estimate import PROTOCOLS, estimate_homography
 from clap_unified.presets import (
     PRESETS,
+    TASK_PRESETS,
     Preset,
     get_preset,
     preset_names,
     protocol_presets,
     resolve_preset,
+    space_conflicts,
 )
 from clap_unified.spaces import HomographySpace, LineSpace
 from clap_unified.spaces.homography import DEFAULT_THRESHOLD
@@ -176,9 +179,95 @@ def test_a_configured_space_is_used_as_given():
     assert plain.space.is_plain and plain.diagnostics["hypotheses"] == 50
     with pytest.raises(ValueError, match="^polish: a setting of the space a preset builds"):
         fit(space, m, "clap", preset="paper", polish=True)
-    # an explicit preset on a configured space: its options and budget, the space as given
+    # an explicit preset on the space it would build itself: its options and budget, the
+    # space as given, the same answer as the preset building it from a plain space
     c = fit(space, m, "clap", rng=0, preset="paper")
     assert c.space is space and c.diagnostics["hypotheses"] == 400
+    same(c, fit(HomographySpace(), m, "clap", rng=0, preset="paper"))
+
+
+@pytest.mark.parametrize("build,method,preset,conflict", [
+    (lambda m: HomographySpace.for_data(m, metric="lie_linear"), "clap", "paper",
+     r"metric='lie_linear' \(the preset's 'lie'\)"),
+    (lambda m: HomographySpace.for_data(m, metric="transfer", polish=True), "clap", "paper",
+     r"metric='transfer' \(the preset's 'lie'\), polish=True \(the preset's False\)"),
+    (lambda m: HomographySpace(polish=True), "ransac", "paper",
+     r"polish=True \(the preset's False\)"),
+    (lambda m: HomographySpace(polish=True), "clap", "default",
+     r"frame=False \(the preset's True\), polish=True \(the preset's 2.0\)"),
+    (lambda m: HomographySpace.for_data(m), "magsac", "peer",
+     r"frame=True \(the preset's False\)"),
+])
+def test_a_named_preset_on_a_configured_space_is_never_half_applied(build, method, preset,
+                                                                     conflict):
+    """Issue 27: a named preset given with a space configured by hand used to skip the
+    preset's space settings in silence (its budget and options ran on another space). Now
+    the preset applies whole, when the space is the one it builds, or not at all: a
+    ``ValueError`` naming ``preset`` and each conflicting setting, with the ways out."""
+    m = matches(2)
+    space = build(m)
+    with pytest.raises(ValueError, match=rf"^preset: '\w+' of '{method}' builds its own "
+                                         rf"homography space, .*differs: {conflict}\. Pass a "
+                                         r"plain HomographySpace\(\).*preset='own'.*\.replace"):
+        fit(space, m, method, preset=preset)
+    # no preset on a configured space is still no preset (the strategy's own defaults)
+    fit(space, m, method, rng=0, preset="own")
+
+
+def test_a_preset_replaced_to_fit_the_configured_space_applies():
+    """The way out the message gives: the preset changed to the space's settings runs its
+    budget and options on that space, as the same preset builds it from a plain space."""
+    m = matches(4)
+    space = HomographySpace.for_data(m, metric="lie_linear")
+    p = get_preset("homography", "clap", "paper").replace(metric="lie_linear")
+    assert space_conflicts(p, space) == {}
+    a = fit(space, m, "clap", rng=3, preset=p)
+    assert a.space is space and a.diagnostics["hypotheses"] == 400
+    same(a, fit(HomographySpace(), m, "clap", rng=3, preset=p))
+
+
+def test_preset_is_hashable_and_equal_by_value():
+    """Issue 27: a frozen preset holding dicts could not be hashed. Now two presets with the
+    same settings are equal and hash alike, whatever mappings built them; a change makes
+    another preset; presets key dicts and sets."""
+    a = get_preset("homography", "clap", "paper")
+    b = Preset("paper", "homography", "clap", space=dict(a.space), fit=dict(a.fit),
+               options=dict(reversed(list(a.options.items()))), protocol="clap_paper",
+               aliases=[], summary=a.summary, label=a.label)
+    assert a == b and hash(a) == hash(b) and a is not b
+    assert a.replace() == a and hash(a.replace()) == hash(a)
+    c = a.replace(rounds=4)
+    assert c != a and len({a, b, c}) == 2 and {a: 1}[b] == 1
+    # every preset of every task hashes, and equal presets are the same key
+    every = [p for presets in TASK_PRESETS.values() for p in presets.values()]
+    assert len(set(every)) == len(every)
+    assert {p: p.name for p in every}[pickle.loads(pickle.dumps(a))] == "paper"
+    # a value the settings hold by reference (a tuple, an array) hashes by content
+    hough = get_preset("pose2d", "randomized_hough", task="localize")
+    assert hash(hough) == hash(hough.replace(cell_size=tuple(hough.options["cell_size"])))
+    d = Preset("x", "line", "ransac", options={"w": np.array([1.0, 2.0])})
+    assert hash(d) == hash(Preset("x", "line", "ransac", options={"w": np.array([1.0, 2.0])}))
+
+
+def test_method_help_is_written_from_the_presets(capsys):
+    """Issue 27: the ``--method`` help of ``fit homography`` and ``stitch`` listed the
+    protocol names by hand. Now it is written from :func:`protocol_presets`: every protocol
+    name in the presets' order, each with its label, the peers grouped."""
+    from clap_unified.imaging.cli import method_help
+
+    presets = protocol_presets()
+    text = method_help()
+    listed = re.findall(r"\b\w+\b", text.split(": ", 1)[1])
+    names = [w for w in listed if w in presets]
+    assert names == list(presets)
+    for name, p in presets.items():
+        assert (f"{name} ({p.label})" in text) == bool(p.label)
+    peers = [n for n, p in presets.items() if "peer" in p.aliases]
+    assert peers and text.endswith(f"or another library's estimator ({', '.join(peers)})")
+    for command in (["fit", "homography"], ["stitch"]):
+        assert main([*command, "--help"]) == 0
+        out = " ".join(capsys.readouterr().out.split())
+        assert " ".join(text.split()) in out
 
 
 def test_protocols_derive_from_the_presets():
