@@ -28,7 +28,23 @@ gives a copy with some values overridden, each key routed to its part.
 strategies need tuning beyond their defaults); a space without an entry has
 only ``"default"`` and ``"own"``, both the strategy's own defaults.
 :data:`~clap_unified.imaging.estimate.PROTOCOLS`, ``clap-unified fit
-homography``, ``reproduce`` and the book read these presets.
+homography`` (its ``--method`` help too), ``reproduce`` and the book read
+these presets.
+
+The other entry points keep their defaults here too, as presets of another
+task (:data:`TASKS`, :data:`TASK_PRESETS`; ``get_preset(..., task=...)``):
+``"segment"``, the multi-model defaults of
+:func:`~clap_unified.imaging.segment_matches` per kind of matches (the same
+for every segmenter: ``strategy=None``), and ``"localize"``, those of
+:func:`~clap_unified.localization.localize2d`,
+:func:`~clap_unified.localization.localize3d` and
+:func:`~clap_unified.localization.align_correspondences` per pose space and
+strategy. Their functions, commands, benchmarks and experiments read them.
+
+A named preset given with a space configured by hand applies whole when the
+space is the one the preset builds (:func:`space_conflicts` is empty), and
+is refused otherwise (``ValueError`` naming ``preset`` and the settings):
+never half applied. A preset is equal by value and hashable.
 
 Examples
 --------
