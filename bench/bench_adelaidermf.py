@@ -9,8 +9,10 @@ a median time at most 0.5 s per sequence on one core.
 
 Every method runs through :func:`~clap_unified.imaging.segment_matches.segment_matches`
 with the same threshold, seeds, minimum support and finish (each match to its
-nearest model, each model refitted on its matches); the segmenters that use
-hypotheses share the same 1000 local samples per seed. The threshold is swept
+nearest model, each model refitted on its matches), with the kind's
+segmentation preset (:func:`~clap_unified.imaging.segment_matches.segment_preset`:
+the budget, the local samples, the spatial coherence); the segmenters that use
+hypotheses share the same local samples per seed. The threshold is swept
 (``--thresholds``) and each method's best single threshold reported, as in the
 published evaluations. The ground-truth labels reach only the score.
 

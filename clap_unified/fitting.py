@@ -119,8 +119,11 @@ def fit(space, data, method: str = "clap", *, n_hypotheses: int | None = None,
         ``None``: ``"default"`` when ``space`` is plain (e.g.
         ``HomographySpace()``), else ``"own"``. A preset builds its space
         from a plain space (homographies: in the frame of the matches, its
-        metric and polish); a space configured by hand is used as given. Every
-        argument passed explicitly, and every option, overrides the preset.
+        metric and polish); a space configured by hand is used as given,
+        and a named preset with it applies whole when the space is the one
+        the preset builds, else raises ``ValueError`` naming ``preset`` and
+        the conflicting settings (:func:`~clap_unified.presets.space_conflicts`).
+        Every argument passed explicitly, and every option, overrides the preset.
     **options
         The strategy's own options (e.g. ``bandwidth`` for CLAP,
         ``cell_size`` for randomized Hough, ``score`` for RANSAC); with a

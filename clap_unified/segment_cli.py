@@ -8,9 +8,10 @@ when at least one model was found, 1 when none was (the JSON says why, every lab
 bad input (the common convention, :data:`~clap_unified.cli.EXIT_STATUS`).
 
 Each kind is one entry of :data:`KINDS`: its space, the columns of a row and how the data are
-segmented. Adding a kind (fundamental matrices, say) is adding an entry; for matches, the
-kind's defaults live in :data:`~clap_unified.imaging.segment_matches.SEGMENT_DEFAULTS`, shared
-with the library and the book.
+segmented. Adding a kind is adding an entry; for matches, the kind's defaults are its
+segmentation preset (:func:`~clap_unified.imaging.segment_matches.segment_preset`, in
+:mod:`clap_unified.presets`), shared with the library, the benchmark and the book; the other
+kinds run :func:`~clap_unified.segment`'s own defaults.
 """
 
 from __future__ import annotations
@@ -25,7 +26,7 @@ import numpy as np
 
 from ._validation import Checked
 from .cli import EXIT_STATUS, _Parser
-from .imaging.segment_matches import SEGMENT_DEFAULTS, segment_matches
+from .imaging.segment_matches import segment_matches, segment_preset
 from .io import MAX_HYPOTHESES, MAX_ROWS, float_option, int_option, read_points_csv
 from .registry import segmenter_names
 from .result import SegmentationResult
@@ -55,8 +56,9 @@ output:
   outlier), selection, data (rows), threshold, seconds. Finding no model is a failed
   estimate (exit 1): the JSON is printed with the reason and every label -1."""
 
-#: ``segment``'s default number of hypotheses (for kinds without their own).
-_N_HYPOTHESES = inspect.signature(segment).parameters["n_hypotheses"].default
+#: ``segment``'s own defaults (for kinds without a preset).
+_SEGMENT_DEFAULTS = inspect.signature(segment).parameters
+_N_HYPOTHESES = _SEGMENT_DEFAULTS["n_hypotheses"].default
 
 
 @dataclass(frozen=True)
@@ -105,13 +107,15 @@ def _in_space(space: type, for_data: Callable) -> Callable:
         data = Checked(space().check_data(data))
         return segment(for_data(data), data, method, n_hypotheses=n_hypotheses,
                        threshold=threshold, rng=seed, min_support=min_support,
-                       coherence=0.0 if coherence is None else coherence)
+                       coherence=(_SEGMENT_DEFAULTS["coherence"].default if coherence is None
+                                  else coherence))
     return run
 
 
 def _matches(kind, data, method, threshold, n_hypotheses, seed, min_support, coherence=None):
     """A kind's ``run`` for matches: :func:`~clap_unified.imaging.segment_matches.segment_matches`
-    (its defaults are :data:`~clap_unified.imaging.segment_matches.SEGMENT_DEFAULTS`)."""
+    (its defaults are the kind's preset,
+    :func:`~clap_unified.imaging.segment_matches.segment_preset`)."""
     return segment_matches(data, kind, method, threshold=threshold, rng=seed,
                            n_hypotheses=n_hypotheses, min_support=min_support,
                            coherence=coherence)
@@ -137,15 +141,15 @@ KINDS = {
         row="x1,y1,x2,y2", metavar="MATCHES.csv", what="homographies (planes)",
         model='{"H": 3 x 3 row-major, H33 = 1} mapping point 1 to point 2',
         threshold="reprojection error in pixels (default "
-                  f"{SEGMENT_DEFAULTS['homography']['threshold']:g})",
-        n_hypotheses=SEGMENT_DEFAULTS["homography"]["n_hypotheses"]),
+                  f"{segment_preset('homography').fit['threshold']:g})",
+        n_hypotheses=segment_preset("homography").fit["n_hypotheses"]),
     "fundamental": SegmentKind(
         space=FundamentalSpace, columns=4, run=_matches,
         row="x1,y1,x2,y2", metavar="MATCHES.csv", what="fundamental matrices (rigid motions)",
         model='{"F": 3 x 3 row-major, unit norm} with x2^T F x1 = 0',
         threshold="Sampson error in pixels (default "
-                  f"{SEGMENT_DEFAULTS['fundamental']['threshold']:g})",
-        n_hypotheses=SEGMENT_DEFAULTS["fundamental"]["n_hypotheses"]),
+                  f"{segment_preset('fundamental').fit['threshold']:g})",
+        n_hypotheses=segment_preset("fundamental").fit["n_hypotheses"]),
 }
 
 
@@ -194,7 +198,9 @@ def _add_kind(kinds, name: str, kind: SegmentKind) -> None:
                    help=f"rows a model must explain to be kept (at least "
                         f"{kind.space().min_samples}, one minimal sample; default the larger "
                         "of 10, two minimal samples and 2%% of the rows)")
-    default = (SEGMENT_DEFAULTS[name]["coherence"] if name in SEGMENT_DEFAULTS else 0.0)
+    preset = segment_preset(name) if kind.run is _matches else None
+    default = (_SEGMENT_DEFAULTS["coherence"].default if preset is None
+               else preset.fit["coherence"])
     p.add_argument("--coherence", type=float_option(0.0, closed=True), default=None, metavar="W",
                    help="spatial coherence: the cost of two neighbouring rows on different "
                         "models, in units of an outlier's cost (0: each row to its nearest "

@@ -25,12 +25,13 @@ from pathlib import Path
 import numpy as np
 
 from ..io import MAX_HYPOTHESES, MAX_WORK, check_budget, float_option, int_option, read_points_csv
+from ..presets import protocol_presets
 from ..result import ConsensusResult
 from ..spaces.homography import DEFAULT_THRESHOLD, HomographySpace
 from .estimate import MIN_MATCHES, PROTOCOLS, estimate_homography, method_names
 
-__all__ = ["MAX_IMAGE_PIXELS", "MAX_MATCHES", "add_fit_homography", "fit_homography_command",
-           "register", "stitch_command"]
+__all__ = ["DEFAULT_METHOD", "MAX_IMAGE_PIXELS", "MAX_MATCHES", "add_fit_homography",
+           "fit_homography_command", "method_help", "register", "stitch_command"]
 
 #: ``--method`` choices: the protocols and every registered homography strategy.
 METHODS = method_names()
@@ -44,11 +45,30 @@ MAX_IMAGE_PIXELS = 25_000_000
 #: at this limit and prints the time and memory it takes.
 MAX_MATCHES = 100_000
 
-_METHOD_HELP = ("homography estimator (default clap): clap (the library's CLAP), clap_paper "
-                "(the paper's protocol as written), clap_densest (another reading of it: "
-                "trimming inside the densest cluster, polished), ransac, randomized_hough, "
-                "or another library's estimator (cv2_ransac, magsac, usac_accurate, "
-                "usac_ransac_fixed, poselib, colmap)")
+#: ``--method``'s default.
+DEFAULT_METHOD = "clap"
+
+
+def method_help() -> str:
+    """``--method``'s help, written from the presets (their protocol names, in their order,
+    with their labels; the peers' presets grouped), so that it cannot drift from them.
+
+    Examples
+    --------
+    >>> method_help()[:70]
+    "homography estimator (default clap): clap (the library's CLAP), clap_p"
+    """
+    presets = protocol_presets(HomographySpace.name)
+    ours = [f"{name} ({p.label})" if p.label else name
+            for name, p in presets.items() if "peer" not in p.aliases]
+    peers = [name for name, p in presets.items() if "peer" in p.aliases]
+    others = [name for name in METHODS if name not in presets]
+    text = f"homography estimator (default {DEFAULT_METHOD}): {', '.join(ours)}"
+    if peers:
+        text += f", or another library's estimator ({', '.join(peers)})"
+    if others:
+        text += f"; also registered: {', '.join(others)}"
+    return text
 
 
 def _budgets() -> str:
@@ -97,7 +117,8 @@ def register(sub) -> None:
     p.add_argument("-o", "--output", required=True, metavar="OUT",
                    help="panorama file to write (.png or .jpg); its folder must exist; "
                         "written only on success")
-    p.add_argument("--method", choices=METHODS, default="clap", help=_METHOD_HELP)
+    p.add_argument("--method", choices=METHODS, default=DEFAULT_METHOD,
+                   help=method_help())
     p.add_argument("--blend", choices=["none", "overwrite", "feather"], default="feather",
                    help="how the overlap is blended: none (overlay), overwrite, feather "
                         "(distance-transform weights; default)")
@@ -122,7 +143,8 @@ def add_fit_homography(kinds) -> None:
                    help=f"CSV file, one match per row: x1,y1,x2,y2 in pixels (the VPG "
                         f"correspondence format; header line optional; at most {MAX_MATCHES} "
                         "rows)")
-    p.add_argument("--method", choices=METHODS, default="clap", help=_METHOD_HELP)
+    p.add_argument("--method", choices=METHODS, default=DEFAULT_METHOD,
+                   help=method_help())
     p.add_argument("--seed", type=int_option(), default=0, help="random seed (default 0)")
     p.add_argument("--threshold", type=float_option(), default=DEFAULT_THRESHOLD,
                    help=f"inlier reprojection error in pixels (default {DEFAULT_THRESHOLD:g})")

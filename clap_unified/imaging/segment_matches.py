@@ -1,11 +1,13 @@
 """Several planes or motions in one image pair: :func:`~clap_unified.segment` on matches.
 
 :func:`segment_matches` builds the space of ``kind`` and calls
-:func:`~clap_unified.segment` with the defaults of :data:`SEGMENT_DEFAULTS`,
-the one home of the multi-model defaults the command line, the benchmark and
-the book share. :func:`evaluate_adelaidermf` runs methods on the AdelaideRMF
-sequences and scores them by the misclassification error (the labels reach
-only the score); :func:`explain_errors` asks, sequence by sequence, whether a
+:func:`~clap_unified.segment` with the kind's segmentation preset
+(:func:`segment_preset`, :mod:`clap_unified.presets`: the one home of the
+multi-model defaults the command line, the benchmark and the book share;
+:data:`SEGMENT_DEFAULTS` is its read-only view). :func:`evaluate_adelaidermf`
+runs methods on the AdelaideRMF sequences and scores them by the
+misclassification error (the labels reach only the score);
+:func:`explain_errors` asks, sequence by sequence, whether a
 method's error is its objective's or its search's, against the annotated
 structures (an oracle: for the diagnosis, never for an estimator).
 """
@@ -17,31 +19,40 @@ import time
 import numpy as np
 
 from .._validation import check_choice
+from ..presets import Settings, get_preset
 from ..segmenting import segment
 from ..spaces.fundamental import FundamentalSpace
 from ..spaces.homography import HomographySpace
 
 __all__ = ["SEGMENT_DEFAULTS", "SPACES", "evaluate_adelaidermf", "explain_errors",
-           "segment_matches"]
+           "segment_matches", "segment_preset"]
 
 #: Space of each kind of match segmentation, built for the matches (hypotheses compared in
 #: the normalised frame of the matches; residuals and models in pixels).
 SPACES = {"homography": HomographySpace.for_data, "fundamental": FundamentalSpace.for_data}
 
-#: Defaults of :func:`segment_matches`, per kind: the inlier threshold (pixels,
-#: the space's residual), the hypotheses drawn and how (local samples: a match
-#: and others among its 20 nearest, for every segmenter that uses the shared
-#: hypotheses; sequential RANSAC draws its own the same way) and the spatial
-#: coherence of the common finish (two matches among each other's 8 nearest, in
-#: the four coordinates, pay 0.05 of an outlier's cost to lie on different
-#: models; :mod:`clap_unified.coherence`). Chosen on AdelaideRMF by the
-#: benchmark ``bench/bench_adelaidermf.py``.
-SEGMENT_DEFAULTS = {
-    "homography": {"threshold": 5.0, "n_hypotheses": 1000, "neighbours": 20,
-                   "coherence": 0.05, "coherence_neighbours": 8},
-    "fundamental": {"threshold": 2.0, "n_hypotheses": 1000, "neighbours": 20,
-                    "coherence": 0.05, "coherence_neighbours": 8},
-}
+def segment_preset(kind: str, method: str | None = None):
+    """The defaults of :func:`segment_matches` for ``kind`` and ``method``: the
+    segmentation preset (:func:`~clap_unified.presets.get_preset` with
+    ``task="segment"``), their one home.
+
+    Examples
+    --------
+    >>> p = segment_preset("homography", "clap")
+    >>> p.fit["threshold"], p.fit["neighbours"], segment_preset("fundamental").fit["threshold"]
+    (5.0, 20, 2.0)
+    """
+    kind = check_choice(kind, "kind", set(SPACES))
+    return get_preset(kind, method, task="segment")
+
+
+#: Defaults of :func:`segment_matches`, per kind: a read-only view of the segmentation
+#: presets (:func:`segment_preset`; change a default there). The inlier threshold
+#: (pixels, the space's residual), the hypotheses drawn and how (local samples: a match
+#: and others among its ``neighbours`` nearest) and the spatial coherence of the common
+#: finish (:mod:`clap_unified.coherence`). Chosen on AdelaideRMF by the benchmark
+#: ``bench/bench_adelaidermf.py``.
+SEGMENT_DEFAULTS = Settings({kind: Settings(segment_preset(kind).fit) for kind in SPACES})
 
 
 def segment_matches(matches, kind: str = "homography", method: str = "clap", *,
@@ -59,7 +70,7 @@ def segment_matches(matches, kind: str = "homography", method: str = "clap", *,
     method : str
         A segmenter (:func:`~clap_unified.registry.segmenter_names`).
     threshold, n_hypotheses, neighbours, coherence : optional
-        Default :data:`SEGMENT_DEFAULTS`; ``neighbours=0`` draws uniform
+        Default the preset (:func:`segment_preset`); ``neighbours=0`` draws uniform
         samples, ``coherence=0`` gives each match to its nearest model.
     rng : None, int or numpy.random.Generator
     **options
@@ -80,7 +91,7 @@ def segment_matches(matches, kind: str = "homography", method: str = "clap", *,
     (2, [100, 100])
     """
     kind = check_choice(kind, "kind", set(SPACES))
-    defaults = SEGMENT_DEFAULTS[kind]
+    defaults = segment_preset(kind, method).fit
     threshold = defaults["threshold"] if threshold is None else threshold
     n_hypotheses = defaults["n_hypotheses"] if n_hypotheses is None else n_hypotheses
     neighbours = defaults["neighbours"] if neighbours is None else neighbours
@@ -127,7 +138,8 @@ def evaluate_adelaidermf(kind: str = "homography", methods=("clap",), *, thresho
     from .segmentation_metrics import misclassification_error
 
     kind = check_choice(kind, "kind", set(SPACES))
-    thresholds = (SEGMENT_DEFAULTS[kind]["threshold"],) if thresholds is None else thresholds
+    thresholds = ((segment_preset(kind).fit["threshold"],) if thresholds is None
+                  else thresholds)
     names = adelaidermf_names(kind) if names is None else list(names)
     options = options or {}
     jobs = [(n, m, t, s) for n in names for m in methods for t in thresholds for s in seeds]
@@ -204,7 +216,7 @@ def explain_errors(kind: str = "homography", *, threshold: float, seed: int = 0,
     if options.get("refine", True) is False:
         raise ValueError("options: refine=False leaves no finish to compare with the oracle's")
     names = adelaidermf_names(kind) if names is None else list(names)
-    defaults = SEGMENT_DEFAULTS[kind]
+    defaults = segment_preset(kind, "clap").fit
     coherence = options.get("coherence", defaults["coherence"])
     rows = []
     for name in names:

@@ -2,13 +2,13 @@
 
 from __future__ import annotations
 
-import inspect
 from pathlib import Path
 
 import numpy as np
 
 from ..io import MAX_HYPOTHESES, MAX_WORK, check_budget, int_option, read_typed_points
 from ..maps.field import FIELD_DIMENSIONS, LANDMARK_TYPES, load_field
+from ..presets import get_preset
 from ..registry import strategy_names
 from ..spaces.landmarks2d import Landmark2DSpace
 from .localize2d import localize2d, observation_data
@@ -98,7 +98,7 @@ def register(sub) -> None:
                         "candidates near it")
     p.add_argument("--seed", type=int_option(), default=0,
                    help="random seed (pair sampling only; default 0)")
-    default = inspect.signature(localize2d).parameters["n_hypotheses"].default
+    default = get_preset("pose2d", None, task="localize").fit["n_hypotheses"]
     p.add_argument("--hypotheses", type=int_option(1, MAX_HYPOTHESES), default=None, metavar="H",
                    help=f"observation pairs: all are enumerated while they are at most H, "
                         f"beyond H are sampled; every candidate pose they give is used "

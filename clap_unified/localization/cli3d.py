@@ -2,11 +2,10 @@
 
 from __future__ import annotations
 
-import inspect
-
 import numpy as np
 
 from ..io import MAX_HYPOTHESES, MAX_WORK, check_budget, int_option
+from ..presets import get_preset
 from ..registry import strategy_names
 from ..spaces.landmarks3d import Landmark3DSpace
 from .localize3d import localize3d
@@ -71,11 +70,12 @@ def register(sub) -> None:
                    help="consensus strategy (default clap; open3d: Open3D's RANSAC)")
     p.add_argument("--seed", type=int_option(), default=0,
                    help="random seed (triplet sampling; default 0)")
-    defaults = inspect.signature(localize3d).parameters
+    budget = get_preset("pose3d", None, task="localize").fit["n_hypotheses"]
+    iterations = get_preset("pose3d", "open3d", task="localize").fit["n_hypotheses"]
     p.add_argument("--hypotheses", type=int_option(1, MAX_HYPOTHESES), default=None, metavar="H",
                    help=f"candidate poses (clap, ransac, randomized_hough: all detection "
                         f"triplets are enumerated while they are at most H, beyond H are "
-                        f"sampled; default {defaults['n_hypotheses'].default}) or the iteration "
-                        f"cap (open3d; default {defaults['open3d_iterations'].default}); at most "
+                        f"sampled; default {budget}) or the iteration "
+                        f"cap (open3d; default {iterations}); at most "
                         f"{MAX_HYPOTHESES}, and hypotheses x detections at most {MAX_WORK:.0e}")
     p.set_defaults(run=_localize3d)

@@ -25,6 +25,7 @@ import numpy as np
 from .._validation import check_positive
 from ..geometry.se2 import SE2
 from ..maps.field import Field, load_field
+from ..presets import get_preset
 from ..result import ConsensusResult
 from ..spaces.landmarks2d import HOUGH_CELL, Landmark2DSpace, observations_array
 from .core import localize
@@ -102,12 +103,22 @@ def observation_data(observations) -> np.ndarray:
 
 
 def localize2d(observations, field="adult", *, method: str = "clap", prior=None,
-               radius: float = 1.0, bandwidth: float = 0.25, threshold: float = 0.3,
-               distance_tolerance: float = 0.3, angle_weight: float = 1.0,
-               max_clusters: int = 5, min_support: int = 1, n_hypotheses: int = 20000,
-               cell_size=HOUGH_CELL, space: Landmark2DSpace | None = None, hypotheses=None,
+               radius: float | None = None, bandwidth: float | None = None,
+               threshold: float | None = None, distance_tolerance: float | None = None,
+               angle_weight: float | None = None, max_clusters: int | None = None,
+               min_support: int | None = None, n_hypotheses: int | None = None,
+               cell_size=None, space: Landmark2DSpace | None = None, hypotheses=None,
                rng=None) -> ConsensusResult:
     """Robot pose on the field from one frame of landmark detections.
+
+    Every argument left ``None`` takes the default of the localization preset of
+    ``method`` (``get_preset("pose2d", method, task="localize")``,
+    :mod:`clap_unified.presets`, the one home of the defaults; the command
+    ``clap-unified localize2d`` reads the same): ``radius`` 1 m, ``bandwidth``
+    0.25, ``threshold`` 0.3 m, ``max_clusters`` 5, ``min_support`` 1,
+    ``n_hypotheses`` 20000, ``cell_size`` :data:`HOUGH_CELL`; the space's own
+    ``distance_tolerance`` and ``angle_weight``
+    (:class:`~clap_unified.spaces.landmarks2d.Landmark2DSpace`).
 
     Parameters
     ----------
@@ -125,27 +136,27 @@ def localize2d(observations, field="adult", *, method: str = "clap", prior=None,
         observations within ``radius`` metres of a landmark of their type)
         that lie within ``radius`` of it; CLAP runs in local mode, the other
         strategies see the same candidates.
-    radius : float
+    radius : float, optional
         Gate around the prior in the SE(2) distance (metres, radians times
         ``angle_weight``).
-    bandwidth : float
+    bandwidth : float, optional
         CLAP global mode: neighbourhood radius among candidates.
-    threshold : float
+    threshold : float, optional
         An observation is an inlier when it lands this close (metres) to a map
         landmark of its type.
-    distance_tolerance : float
+    distance_tolerance : float, optional
         Candidate check: observed and map separations of a pair must agree
         this well (metres).
-    angle_weight : float
+    angle_weight : float, optional
         lambda of the SE(2) distance, metres per radian.
-    max_clusters, min_support : int
+    max_clusters, min_support : int, optional
         CLAP global mode: clusters reported and the smallest reported
         (``max_clusters`` is also the randomized Hough's peak count).
-    n_hypotheses : int
+    n_hypotheses : int, optional
         All observation pairs are enumerated while they give no more than
         this many pairs; beyond, pairs are sampled. Every candidate is used
         (RANSAC scores them all).
-    cell_size : (dx, dy, dtheta)
+    cell_size : (dx, dy, dtheta), optional
         Randomized Hough grid cell (metres, metres, radians; ``2 pi / dtheta`` whole).
     space : Landmark2DSpace, optional
         Reuse a space (and its field) across frames.
@@ -177,15 +188,23 @@ def localize2d(observations, field="adult", *, method: str = "clap", prior=None,
     """
     if space is None:
         fld = field if isinstance(field, Field) else load_field(field)
-        space = Landmark2DSpace(fld, distance_tolerance=distance_tolerance,
-                                angle_weight=angle_weight)
+        space = Landmark2DSpace(fld, **{k: v for k, v in (("distance_tolerance",
+                                                            distance_tolerance),
+                                                           ("angle_weight", angle_weight))
+                                        if v is not None})
     data = observation_data(observations)
-    radius = check_positive(radius, "radius")
+    preset = get_preset("pose2d", method, task="localize")  # this function's defaults
+    args = {**preset.fit, **{k: v for k, v in (("radius", radius), ("threshold", threshold),
+                                                ("n_hypotheses", n_hypotheses))
+                             if v is not None}}
+    radius = check_positive(args["radius"], "radius")
     prior = None if prior is None else as_pose(prior)
     # the options of each strategy this function sets (the others keep their defaults)
-    own = {"clap": dict(bandwidth=bandwidth, max_clusters=max_clusters, min_support=min_support),
-           "randomized_hough": dict(cell_size=cell_size, num_peaks=max_clusters)}
+    given = {"clap": dict(bandwidth=bandwidth, max_clusters=max_clusters,
+                          min_support=min_support),
+             "randomized_hough": dict(cell_size=cell_size, num_peaks=max_clusters)}
+    own = {**preset.options,
+           **{k: v for k, v in given.get(method, {}).items() if v is not None}}
     return localize(space, data, method, prior=prior, radius=None if prior is None else radius,
-                    n_hypotheses=n_hypotheses,
-                    threshold=threshold, rng=rng, hypotheses=hypotheses,
-                    **own.get(method, {}))
+                    n_hypotheses=args["n_hypotheses"],
+                    threshold=args["threshold"], rng=rng, hypotheses=hypotheses, **own)

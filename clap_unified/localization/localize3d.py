@@ -23,6 +23,7 @@ from __future__ import annotations
 import numpy as np
 
 from .._validation import check_positive
+from ..presets import get_preset
 from ..result import ConsensusResult
 from ..spaces.landmarks3d import Landmark3DSpace
 from .core import localize
@@ -47,18 +48,34 @@ def pose_errors(estimate, truth):
     return float(e_t), float(np.degrees(e_r))
 
 
+def _given(**values) -> dict:
+    """The arguments given (not ``None``): they override the preset's."""
+    return {k: v for k, v in values.items() if v is not None}
+
+
 def _open3d_seed(rng) -> int:
     """Open3D's seed: the given integer seed, else 0."""
     return int(rng) if isinstance(rng, (int, np.integer)) else 0
 
 
-def localize3d(observations, landmarks, *, method: str = "clap", n_hypotheses: int = 1000,
-               bandwidth: float = 0.15, centre: str = "medoid", threshold: float = 0.15,
-               max_clusters: int = 5, min_support: int = 3, space: Landmark3DSpace | None = None,
-               hypotheses=None, prune: bool = True, prior=None, max_translation: float = 0.5,
-               max_rotation: float = np.radians(10.0), open3d_iterations: int = 100000, rng=None,
-               select: str = "support", **space_options) -> ConsensusResult:
+def localize3d(observations, landmarks, *, method: str = "clap",
+               n_hypotheses: int | None = None, bandwidth: float | None = None,
+               centre: str | None = None, threshold: float | None = None,
+               max_clusters: int | None = None, min_support: int | None = None,
+               space: Landmark3DSpace | None = None, hypotheses=None, prune: bool | None = None,
+               prior=None, max_translation: float | None = None,
+               max_rotation: float | None = None, open3d_iterations: int | None = None,
+               rng=None, select: str | None = None, **space_options) -> ConsensusResult:
     """Pose ``T_world_body`` from one frame of typed 3D landmark detections.
+
+    Every argument left ``None`` takes the default of the localization preset
+    (``get_preset("pose3d", method, task="localize")``,
+    :mod:`clap_unified.presets`, the one home of the defaults; the command
+    ``clap-unified localize3d`` reads the same): ``n_hypotheses`` 1000,
+    ``threshold`` 0.15 m, a gate of 0.5 m and 10 degrees around a prior; CLAP's
+    ``bandwidth`` 0.15, ``centre`` ``"medoid"``, ``max_clusters`` 5,
+    ``min_support`` 3, ``prune``, ``select`` ``"support"``; Open3D's
+    ``open3d_iterations`` 100000.
 
     Parameters
     ----------
@@ -73,24 +90,24 @@ def localize3d(observations, landmarks, *, method: str = "clap", n_hypotheses: i
     method : str
         A strategy registered for 3D poses (``strategy_names(space)``):
         ``"clap"``, ``"ransac"``, ``"open3d"``...
-    n_hypotheses : int
+    n_hypotheses : int, optional
         Candidate poses wanted; all observation triplets are enumerated when
         there are no more than this many, otherwise triplets are sampled.
         Every candidate is used (RANSAC scores them all).
-    bandwidth : float
+    bandwidth : float, optional
         CLAP: neighbourhood radius among candidates, in the SE(3) distance.
-    centre : {"medoid", "karcher", "log_euclidean", "split", "median"}
+    centre : {"medoid", "karcher", "log_euclidean", "split", "median"}, optional
         CLAP's cluster centre.
-    threshold : float
+    threshold : float, optional
         A detection is an inlier when it lands this close (metres) to a map
         landmark of its type.
-    max_clusters, min_support : int
+    max_clusters, min_support : int, optional
         CLAP: clusters reported, smallest reported.
     space : Landmark3DSpace, optional
         Reuse a space across frames (its distance, lambda and tolerances).
     hypotheses : HypothesisSet, optional
         Reuse candidates, e.g. to run CLAP and RANSAC on identical ones.
-    prune : bool
+    prune : bool, optional
         CLAP global mode: before clustering, drop candidates with fewer than
         ``min_support`` others within ``2 * bandwidth``
         (:func:`~clap_unified.clap.density.dense_candidates`); they cannot
@@ -103,15 +120,15 @@ def localize3d(observations, landmarks, *, method: str = "clap", n_hypotheses: i
         max_rotation)`` of :meth:`~clap_unified.spaces.Landmark3DSpace.near_prior`)
         are kept; CLAP then finds the robust centre of all of them in local
         mode, RANSAC scores only them. Open3D ignores it.
-    max_translation : float
+    max_translation : float, optional
         Local filter: translation threshold, metres.
-    max_rotation : float
+    max_rotation : float, optional
         Local filter: rotation threshold, radians.
-    open3d_iterations : int
+    open3d_iterations : int, optional
         Open3D RANSAC iteration cap (its ``n_hypotheses``).
     rng : None, int or numpy.random.Generator
         Seeds triplet sampling (an integer also seeds Open3D's generator).
-    select : {"support", "consensus"}
+    select : {"support", "consensus"}, optional
         CLAP: the answer is the cluster with the most candidates (the paper)
         or the one whose refined centre best explains the detections
         (:func:`~clap_unified.clap.run_clap`).
@@ -141,6 +158,10 @@ def localize3d(observations, landmarks, *, method: str = "clap", n_hypotheses: i
     >>> res.success, e_t < 0.05, e_r < 1.0
     (True, True, True)
     """
+    preset = get_preset("pose3d", method, task="localize")  # this function's defaults
+    args = {**preset.fit, **_given(n_hypotheses=n_hypotheses, threshold=threshold,
+                                   max_translation=max_translation, max_rotation=max_rotation)}
+    threshold = args["threshold"]
     if space is None:
         if not isinstance(landmarks, LandmarkMap3D):
             raise ValueError("landmarks: expected a LandmarkMap3D (or pass space=)")
@@ -160,27 +181,34 @@ def localize3d(observations, landmarks, *, method: str = "clap", n_hypotheses: i
                          f"{data.shape}")
     radius = None
     if prior is not None:
-        radius = (check_positive(max_translation, "max_translation"),
-                  check_positive(max_rotation, "max_rotation"))
+        radius = (check_positive(args["max_translation"], "max_translation"),
+                  check_positive(args["max_rotation"], "max_rotation"))
     # the options of each strategy this function sets (the others keep their defaults)
-    own = {"clap": dict(bandwidth=bandwidth, centre=centre, max_clusters=max_clusters,
-                        min_support=min_support, prune=prune, select=select),
-           "open3d": dict(n_hypotheses=open3d_iterations, seed=_open3d_seed(rng))}
+    given = {"clap": _given(bandwidth=bandwidth, centre=centre, max_clusters=max_clusters,
+                            min_support=min_support, prune=prune, select=select),
+             "open3d": {"n_hypotheses": preset.fit["n_hypotheses"] if open3d_iterations is None
+                        else open3d_iterations, "seed": _open3d_seed(rng)}}
+    own = {**preset.options, **given.get(method, {})}
+    budget = (get_preset("pose3d", None, task="localize").fit["n_hypotheses"]
+              if n_hypotheses is None else n_hypotheses)  # the candidates' (open3d: unused)
     return localize(space, data, method, prior=prior, radius=radius, threshold=threshold,
-                    rng=rng, hypotheses=hypotheses,
-                    **{"n_hypotheses": n_hypotheses, **own.get(method, {})})
+                    rng=rng, hypotheses=hypotheses, **{"n_hypotheses": budget, **own})
 
 
-def align_correspondences(correspondences, *, method: str = "clap", n_hypotheses: int = 1000,
-                          bandwidth: float = 0.15, centre: str = "medoid",
-                          threshold: float = 0.15, min_support: int = 3,
-                          space=None, prune: bool = True, rng=None) -> ConsensusResult:
+def align_correspondences(correspondences, *, method: str = "clap",
+                          n_hypotheses: int | None = None, bandwidth: float | None = None,
+                          centre: str | None = None, threshold: float | None = None,
+                          min_support: int | None = None, space=None,
+                          prune: bool | None = None, rng=None) -> ConsensusResult:
     """Pose ``T_world_body`` from putative 3D correspondences ``(N, 6)`` rows ``(p, q)``.
 
     ``"clap"`` and ``"ransac"`` see the same ``n_hypotheses`` random triplets
     (the candidate budget: exactly that many are drawn) of a
     :class:`~clap_unified.spaces.rigid3d.Correspondence3DSpace`; ``"open3d"``
     runs Open3D's correspondence RANSAC with ``n_hypotheses`` iterations at most.
+    Every argument left ``None`` takes the default of the localization preset
+    (``get_preset("rigid3d", method, task="localize")``: 1000 triplets, 0.15 m;
+    CLAP as :func:`localize3d`'s).
 
     Examples
     --------
@@ -194,12 +222,15 @@ def align_correspondences(correspondences, *, method: str = "clap", n_hypotheses
     """
     from ..spaces.rigid3d import Correspondence3DSpace
 
+    preset = get_preset("rigid3d", method, task="localize")  # this function's defaults
+    args = {**preset.fit, **_given(n_hypotheses=n_hypotheses, threshold=threshold)}
+    n_hypotheses, threshold = args["n_hypotheses"], args["threshold"]
     if space is None:
         space = Correspondence3DSpace(inlier_threshold=threshold)
     data = space.check_data(correspondences)
-    own = {"clap": dict(bandwidth=bandwidth, centre=centre, min_support=min_support,
-                        prune=prune),
-           "open3d": dict(seed=_open3d_seed(rng))}
+    given = {"clap": _given(bandwidth=bandwidth, centre=centre, min_support=min_support,
+                            prune=prune),
+             "open3d": dict(seed=_open3d_seed(rng))}
+    own = {**preset.options, **given.get(method, {})}
     return localize(space, data, method, n_hypotheses=n_hypotheses, threshold=threshold,
-                    rng=rng, sampling={"exhaustive": False, "max_draws": n_hypotheses},
-                    **own.get(method, {}))
+                    rng=rng, sampling={"exhaustive": False, "max_draws": n_hypotheses}, **own)

@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..presets import get_preset
 from .progress import progress
 from .registry import experiment, finite_or_none
 
@@ -45,12 +46,17 @@ def _errors(rows, **match) -> list:
 OK_3D, GROSS_3D = (0.05, 1.0), (0.5, 5.0)
 #: The front end's pose guess (T_init of the paper's Sec. III-C): 0.3 m and 3 deg off.
 GUESS_3D = (0.3, 3.0)
-#: The local gate around the guess (``localize3d``'s defaults): 0.5 m and 10 deg.
-GATE_3D = (0.5, 10.0)
+#: ``localize3d``'s defaults, its preset (:mod:`clap_unified.presets`): the protocol's.
+_PRESET_3D = get_preset("pose3d", "clap", task="localize")
+#: The local gate around the guess (``localize3d``'s defaults): metres and degrees.
+GATE_3D = (_PRESET_3D.fit["max_translation"],
+           float(np.degrees(_PRESET_3D.fit["max_rotation"])))
 #: Triplet budget of the primary protocol (every triplet when there are no more).
-BUDGET_3D = 1000
+BUDGET_3D = _PRESET_3D.fit["n_hypotheses"]
 #: CLAP's options of the primary protocol (``localize3d``'s defaults).
-CLAP_3D = {"bandwidth": 0.15, "min_support": 3, "select": "support"}
+CLAP_3D = {k: _PRESET_3D.options[k] for k in ("bandwidth", "min_support", "select")}
+#: Its inlier threshold (metres).
+THRESHOLD_3D = _PRESET_3D.fit["threshold"]
 #: A control's minimum support for CLAP: more candidates than a frame has, so it never answers.
 CONTROL_SUPPORT_3D = 10_000
 #: The outcomes of a frame; ``mirror`` is a part of ``wrong``.
@@ -162,7 +168,7 @@ def _localize_3d(det, landmark_map, space, hyps, method, mode, **clap):
     from ..localization.localize3d import localize3d
 
     local = dict(prior=det.input.prior, max_translation=GATE_3D[0],
-                 max_rotation=np.radians(GATE_3D[1])) if mode == "local" else {}
+                 max_rotation=_PRESET_3D.fit["max_rotation"]) if mode == "local" else {}
     opts = {**CLAP_3D, **clap} if method == "clap" else {}
     return localize3d(det.input, landmark_map, method=method, space=space, hypotheses=hyps,
                       **{**local, **opts})
@@ -303,8 +309,9 @@ def run_localization3d(params: dict, seed: int) -> dict:
                     + (f", gated within {GATE_3D[0]:g} m and {GATE_3D[1]:g} deg of a front "
                        f"end's guess {GUESS_3D[0]:g} m / {GUESS_3D[1]:g} deg off the truth"
                        if mode == "local" else "")
-                    + "; CLAP: trimmed medoid (5 rounds x 20 %), bandwidth 0.15, minimum "
-                      "support 3; RANSAC: most inliers within 0.15 m (at least 3); both "
+                    + f"; CLAP: trimmed medoid (5 rounds x 20 %), bandwidth "
+                      f"{CLAP_3D['bandwidth']:g}, minimum support {CLAP_3D['min_support']}; "
+                      f"RANSAC: most inliers within {THRESHOLD_3D:g} m (at least 3); both "
                       "refitted on their inliers (weighted Kabsch); ok within 5 cm and 1 deg, "
                       "wrong beyond 0.5 m or 5 deg, none when no pose is returned",
         "deviations": _DEVIATIONS_3D,
@@ -336,15 +343,17 @@ _DEVIATIONS_3D = [
      "why": "unspecified in the paper"},
     {"paper": "RANSAC (budget, threshold and refinement not given)",
      "here": "RANSAC scores every candidate CLAP clusters (same triplets, same gate) by its "
-             "inliers within 0.15 m; both methods' poses are refitted on their inliers",
+             f"inliers within {THRESHOLD_3D:g} m; both methods' poses are refitted on their "
+             "inliers",
      "why": "unspecified in the paper: equal budgets, and the same refinement for both"},
     {"paper": "triplets of landmarks are matched to the global map (how many not given)",
      "here": f"every triplet when there are at most {BUDGET_3D}, else {BUDGET_3D} random "
              "triplets; 300 and 3000 as variants",
      "why": "unspecified in the paper: a budget that keeps the run short"},
     {"paper": "bandwidth, minimum support, averaging (Karcher, log-Euclidean, split mean)",
-     "here": "trimmed medoid, bandwidth 0.15 in sqrt(e_t^2 + (2 m/rad)^2 e_r^2), minimum "
-             "support 3; halved and doubled as variants",
+     "here": f"trimmed medoid, bandwidth {CLAP_3D['bandwidth']:g} in sqrt(e_t^2 + "
+             f"(2 m/rad)^2 e_r^2), minimum support {CLAP_3D['min_support']}; halved and "
+             "doubled as variants",
      "why": "unspecified in the paper: the library's defaults"},
 ]
 
@@ -408,8 +417,10 @@ OK_2D, GROSS_2D = (0.10, 2.0), (1.0, 180.0)
 #: Hough transform on an (x, y, theta) grid).
 METHODS_2D = ("clap", "ransac", "randomized_hough")
 
+#: CLAP's options of ``localize2d`` (its preset, :mod:`clap_unified.presets`).
+_CLAP_2D = get_preset("pose2d", "clap", task="localize").options
 #: CLAP's options changed by the sensitivity variants of ``localization2d`` (the library's
-#: defaults: bandwidth 0.25, minimum support 1), and the controls' budget.
+#: defaults, ``_CLAP_2D``), and the controls' budget.
 VARIANTS_2D = {"bandwidth_half": ("CLAP's bandwidth halved (0.125)", {"bandwidth": 0.125}),
                "bandwidth_double": ("CLAP's bandwidth doubled (0.5)", {"bandwidth": 0.5}),
                "min_support_double": ("CLAP's minimum support doubled (2)", {"min_support": 2})}
@@ -506,16 +517,17 @@ def run_localization2d(params: dict, seed: int) -> dict:
                     "detections (scene selection by the simulator, not seen by the estimators)",
             "protocol": "global mode, every observation pair matched to every type-compatible "
                         "pair of map landmarks (all candidates enumerated, the same for CLAP, "
-                        "RANSAC and the randomized Hough transform); CLAP bandwidth 0.25, "
-                        "minimum support 1, medoid centre",
+                        "RANSAC and the randomized Hough transform); CLAP bandwidth "
+                        f"{_CLAP_2D['bandwidth']:g}, minimum support {_CLAP_2D['min_support']}, "
+                        "medoid centre",
             "deviations": [
                 {"paper": "robot logs of RoboCup 2024 (predecessor paper)",
                  "here": "simulated detections on the AdultSize field with a camera model, "
                          "misses and false detections",
                  "why": "data unavailable: the logs are not public"},
                 {"paper": "bandwidth and minimum support (not stated)",
-                 "here": "bandwidth 0.25 (m, and rad x 1), minimum support 1; halved and "
-                         "doubled below",
+                 "here": f"bandwidth {_CLAP_2D['bandwidth']:g} (m, and rad x 1), minimum "
+                         f"support {_CLAP_2D['min_support']}; halved and doubled below",
                  "why": "unspecified in the paper: the library's defaults"}],
             "tables": {"errors": rows, "symmetry": sym_rows}, "numbers": numbers,
             "variants": variants}

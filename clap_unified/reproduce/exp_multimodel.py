@@ -41,7 +41,12 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..imaging.segment_matches import evaluate_adelaidermf, explain_errors, summarise
+from ..imaging.segment_matches import (
+    evaluate_adelaidermf,
+    explain_errors,
+    segment_preset,
+    summarise,
+)
 from .claims import deviation
 from .registry import experiment
 
@@ -225,8 +230,10 @@ experiment("multimodel_adelaidermf",
            "Several planes: multi-model fitting on AdelaideRMF",
            quick={"methods": ["clap_paper", "clap", "ransac", "multi_ransac", "t_linkage",
                               "magsac"],
-                  "thresholds": [5.0], "seeds": 1, "fundamental_methods": ["clap", "magsac"],
-                  "fundamental_thresholds": [2.0]},
+                  # quick: each kind's default threshold only (its segmentation preset)
+                  "thresholds": [segment_preset("homography").fit["threshold"]], "seeds": 1,
+                  "fundamental_methods": ["clap", "magsac"],
+                  "fundamental_thresholds": [segment_preset("fundamental").fit["threshold"]]},
            full={"methods": [m for m in METHODS if m != "randomized_hough"],
                  "thresholds": [4.0, 5.0, 7.0, 10.0], "seeds": 5,
                  "fundamental_methods": ["clap", "ransac", "t_linkage", "magsac"],
