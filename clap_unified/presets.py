@@ -501,9 +501,8 @@ def _space_settings(space) -> dict:
     presets set none."""
     if space.name != "homography" or not isinstance(space, HomographySpace):
         return {}
-    # the manifold a frame set, read without building the default one: the property builds
-    # it on first use, and a plain space's minimal solver screens samples differently once
-    # it exists (reading the settings must not change the answers)
+    # the manifold a frame set, read without building the default one (the property
+    # builds it on first use; reading the settings leaves the space as it was)
     manifold = vars(space).get("_manifold")
     if isinstance(manifold, HomographyTransfer):
         return {"frame": True, "metric": "transfer", "polish": space.polish}

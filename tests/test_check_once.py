@@ -146,3 +146,47 @@ def test_the_checks_still_name_the_argument():
         clap_unified.fit_line(np.zeros((5, 3)))
     with pytest.raises(ValueError, match="metric: expected one of"):
         clap_unified.fit_line(np.zeros((5, 2)), metric="nope")
+
+
+@pytest.mark.parametrize("kind,method", [("homography", "clap"), ("homography", "ransac"),
+                                         ("fundamental", "ransac")])
+def test_segment_matches_checks_the_matches_once(spy_checks, kind, method):
+    from clap_unified.imaging.segment_matches import segment_matches
+
+    m = _matches()
+    assert _once(spy_checks, lambda: segment_matches(m, kind, method, rng=0,
+                                                     n_hypotheses=200), m.shape) == 1
+
+
+@pytest.mark.parametrize("method", ["clap", "ransac"])
+def test_localize2d_checks_the_observations_once(monkeypatch, method):
+    """The 2D space checks its observations itself (type ids too): one call on the way."""
+    from clap_unified.geometry import SE2
+    from clap_unified.localization import localize2d
+    from clap_unified.maps import LANDMARK_TYPES, load_field
+    from clap_unified.spaces.landmarks2d import Landmark2DSpace
+
+    field = load_field("adult")
+    truth = SE2.from_xytheta(2.0, -1.0, 0.3)
+    local = (np.linalg.inv(truth) @ np.c_[field.positions[:8], np.ones(8)].T).T[:, :2]
+    obs = np.c_[[LANDMARK_TYPES.index(t) for t in field.types[:8]], local]
+    calls = []
+    original = Landmark2DSpace.check_data
+
+    def counted(self, data):
+        calls.append(np.shape(data))
+        return original(self, data)
+    monkeypatch.setattr(Landmark2DSpace, "check_data", counted)
+    assert localize2d(obs, method=method, rng=0).success
+    assert calls == [obs.shape]
+
+
+@pytest.mark.parametrize("method", ["clap", "ransac"])
+def test_align_correspondences_checks_them_once(spy_checks, method):
+    from clap_unified.localization import align_correspondences
+
+    rng = np.random.default_rng(0)
+    src = rng.uniform(-3, 3, (30, 3))
+    corr = np.c_[src, src + [0.5, -0.2, 0.1]]
+    assert _once(spy_checks, lambda: align_correspondences(corr, method=method, rng=0),
+                 corr.shape) == 1

@@ -85,3 +85,22 @@ def test_polish_scale_widens_the_weights_not_the_inliers():
     for bad in (0, -1.0, np.nan, "yes"):
         with pytest.raises(ValueError, match="polish"):
             HomographySpace(polish=bad)
+
+
+def test_reading_the_manifold_does_not_change_the_answer():
+    """The minimal solver screens samples in the Hartley frame only on a framed space
+    (for_data / for_images); reading a plain space's manifold (built on first use) once
+    switched the screen, and let singular samples through to a ValueError in fit."""
+    rng = np.random.default_rng(2)
+    H = np.array([[1.1, 0.05, 12], [0.02, 0.95, -7], [1e-4, 2e-4, 1]])
+    p = rng.uniform(0, 640, (200, 2))
+    q = np.c_[p, np.ones(200)] @ H.T
+    m = np.c_[p, q[:, :2] / q[:, 2:] + rng.normal(0, 0.5, (200, 2))]
+    m[:120, 2:] = rng.uniform(0, 640, (120, 2))
+    samples = np.array([rng.choice(200, 4, replace=False) for _ in range(20000)])
+    untouched = HomographySpace().solve_minimal(m, samples)
+    read = HomographySpace()
+    read.manifold  # noqa: B018 - the read under test
+    after = read.solve_minimal(m, samples)
+    np.testing.assert_array_equal(after[1], untouched[1])
+    np.testing.assert_array_equal(after[0], untouched[0])

@@ -18,7 +18,7 @@ import time
 
 import numpy as np
 
-from .._validation import check_choice
+from .._validation import Checked, check_choice
 from ..presets import Settings, get_preset
 from ..segmenting import segment
 from ..spaces.fundamental import FundamentalSpace
@@ -98,6 +98,8 @@ def segment_matches(matches, kind: str = "homography", method: str = "clap", *,
     coherence = defaults["coherence"] if coherence is None else coherence
     options.setdefault("coherence_neighbours", defaults["coherence_neighbours"])
     local = {"neighbours": int(neighbours)} if neighbours else None
+    # checked once, for the space's frame and for segment
+    matches = Checked(SPACES[kind].__self__().check_data(matches))
     space = SPACES[kind](matches)
     from ..registry import get_segmenter
 

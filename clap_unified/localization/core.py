@@ -17,7 +17,7 @@ count, so it scores all of them, as CLAP clusters all of them.
 
 from __future__ import annotations
 
-from .._validation import check_int
+from .._validation import Checked, check_int
 from ..fitting import fit
 from ..registry import get_strategy
 from ..result import ConsensusResult
@@ -81,11 +81,15 @@ def localize(space, data, method: str = "clap", *, prior=None, radius=None,
     (True, [2.0, -1.0, 0.3])
     """
     strategy = get_strategy(method, space)
+    if isinstance(data, Checked):  # checked by the caller (localize3d)
+        data = data.data
+    else:
+        if len(data) < space.min_samples:
+            return ConsensusResult.failure(
+                method, f"observations: {len(data)} given, a pose needs at least "
+                f"{space.min_samples}", len(data), 0, space, hypotheses=0)
+        data = space.check_data(data)
     n = len(data)
-    if n < space.min_samples:
-        return ConsensusResult.failure(method, f"observations: {n} given, a pose needs at least "
-                                       f"{space.min_samples}", n, 0, space, hypotheses=0)
-    data = space.check_data(data)
     if strategy.uses_hypotheses:
         if hypotheses is None:
             hypotheses = space.hypotheses(data, check_int(n_hypotheses, "n_hypotheses", minimum=1),
@@ -95,6 +99,6 @@ def localize(space, data, method: str = "clap", *, prior=None, radius=None,
             return ConsensusResult.failure(method, f"no candidate pose{where}: no minimal sample "
                                            "matches the map", n, 0, space, hypotheses=0)
         n_hypotheses = len(hypotheses)  # every candidate is scored
-    return fit(space, data, method, n_hypotheses=n_hypotheses, threshold=threshold, rng=rng,
-               hypotheses=hypotheses if strategy.uses_hypotheses else None, prior=prior,
+    return fit(space, Checked(data), method, n_hypotheses=n_hypotheses, threshold=threshold,
+               rng=rng, hypotheses=hypotheses if strategy.uses_hypotheses else None, prior=prior,
                radius=radius, **options)

@@ -22,7 +22,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .._validation import check_positive
+from .._validation import Checked, check_positive
 from ..presets import get_preset
 from ..result import ConsensusResult
 from ..spaces.landmarks3d import Landmark3DSpace
@@ -227,7 +227,7 @@ def align_correspondences(correspondences, *, method: str = "clap",
     n_hypotheses, threshold = args["n_hypotheses"], args["threshold"]
     if space is None:
         space = Correspondence3DSpace(inlier_threshold=threshold)
-    data = space.check_data(correspondences)
+    data = Checked(space.check_data(correspondences))  # once: localize and fit unwrap it
     given = {"clap": _given(bandwidth=bandwidth, centre=centre, min_support=min_support,
                             prune=prune),
              "open3d": dict(seed=_open3d_seed(rng))}

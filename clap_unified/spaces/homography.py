@@ -282,7 +282,7 @@ class HomographySpace(HypothesisSpace):
             return homography_compiled.four_point_solve(
                 np.ascontiguousarray(q), np.ascontiguousarray(samples, dtype=np.intp),
                 float(s1), float(s2), c1x, c1y, c2x, c2y, SINGULAR_RATIO,
-                self._manifold is not None)
+                self._framed)
         idx = samples.T  # (4, S)
         x, y = q[0, :, 0][idx] * s1, q[0, :, 1][idx] * s1
         u, v = q[1, :, 0][idx] * s2, q[1, :, 1][idx] * s2
@@ -306,7 +306,7 @@ class HomographySpace(HypothesisSpace):
         # the bound with it: at a unit of 1e-6 pixel every hypothesis would fail)
         with np.errstate(all="ignore"):
             G = H
-            if self._manifold is not None:
+            if self._framed:  # not merely read: the manifold for_data gave
                 (c1x, c1y), (c2x, c2y) = c[0], c[1]
                 K = np.stack([H[:, 0], H[:, 1], H[:, 0] * (c1x * s1) + H[:, 1] * (c1y * s1)
                               + H[:, 2] * s1], axis=1)  # s1 H T1^-1
