@@ -160,7 +160,7 @@ class Correspondence3DSpace(HypothesisSpace):
         budget of :func:`~clap_unified.localization.align_correspondences`),
         keeping those that pass the checks (see
         :func:`~clap_unified.spaces.generate_hypotheses`). ``data`` is checked
-        (:meth:`check_data`).
+        (:meth:`~clap_unified.spaces.base.HypothesisSpace.check_data`).
         """
         from .sampling import generate_hypotheses
 
