@@ -117,7 +117,8 @@ def localize2d(observations, field="adult", *, method: str = "clap", prior=None,
     ``clap-unified localize2d`` reads the same): ``radius`` 1 m, ``bandwidth``
     0.25, ``threshold`` 0.3 m, ``max_clusters`` 5, ``min_support`` 1,
     ``n_hypotheses`` 20000, ``cell_size``
-    :data:`~clap_unified.spaces.landmarks2d.HOUGH_CELL`; the space's own ``distance_tolerance`` and ``angle_weight``
+    :data:`~clap_unified.spaces.landmarks2d.HOUGH_CELL`; the space's own
+    ``distance_tolerance`` and ``angle_weight``
     (:class:`~clap_unified.spaces.landmarks2d.Landmark2DSpace`).
 
     Parameters
