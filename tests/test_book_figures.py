@@ -204,20 +204,23 @@ def _text_sizes(tree: ast.AST, rc, axes_off=frozenset()) -> list[tuple[str, floa
     return found
 
 
+def _viz_functions():
+    """Every function defined in ``clap_unified.viz``, as an AST node."""
+    for path in sorted((ROOT / "clap_unified" / "viz").glob("*.py")):
+        tree = ast.parse(path.read_text(encoding="utf-8"))
+        yield from (n for n in ast.walk(tree) if isinstance(n, ast.FunctionDef))
+
+
 def _library_texts() -> dict[str, list[tuple[str, float]]]:
     """The title and tick-label sizes each function of ``clap_unified.viz`` sets, by name
     (only those it sets explicitly: a function drawing on the caller's axes keeps the
     caller's tick labels)."""
     rc = _book_rc()
     found = {}
-    for path in sorted((ROOT / "clap_unified" / "viz").glob("*.py")):
-        tree = ast.parse(path.read_text(encoding="utf-8"))
-        for node in ast.walk(tree):
-            if isinstance(node, ast.FunctionDef):
-                sizes = [t for t in _text_sizes(node, rc)
-                         if t[0] == "title" or _sets_ticks(node)]
-                if sizes:
-                    found.setdefault(node.name, []).extend(sizes)
+    for node in _viz_functions():
+        sizes = [t for t in _text_sizes(node, rc) if t[0] == "title" or _sets_ticks(node)]
+        if sizes:
+            found.setdefault(node.name, []).extend(sizes)
     return found
 
 
@@ -293,13 +296,10 @@ def _library_legends() -> dict[str, list[float]]:
     """The legend font sizes each function of ``clap_unified.viz`` draws, by name."""
     rc = _book_rc()
     found = {}
-    for path in sorted((ROOT / "clap_unified" / "viz").glob("*.py")):
-        tree = ast.parse(path.read_text(encoding="utf-8"))
-        for node in ast.walk(tree):
-            if isinstance(node, ast.FunctionDef):
-                sizes = _legend_sizes(node, rc)
-                if sizes:
-                    found.setdefault(node.name, []).extend(sizes)
+    for node in _viz_functions():
+        sizes = _legend_sizes(node, rc)
+        if sizes:
+            found.setdefault(node.name, []).extend(sizes)
     return found
 
 
