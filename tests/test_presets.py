@@ -484,3 +484,54 @@ def test_localize_commands_state_the_presets(capsys):
         assert f"default {budget.fit['n_hypotheses']})" in out
     iterations = get_preset("pose3d", "open3d", task="localize").fit["n_hypotheses"]
     assert f"(open3d; default {iterations})" in out
+
+
+def _documented_defaults(doc):
+    """``name`` value pairs a docstring writes out ("``radius`` 1 m", "``centre``
+    ``"medoid"``"), as {name: text of the value}."""
+    import re
+
+    doc = " ".join(doc.split())
+    return dict(re.findall(r'``(\w+)`` (``"?[\w.]+"?``|\d+(?:\.\d+)?)', doc))
+
+
+@pytest.mark.parametrize("function, space_name", [("localize2d", "pose2d"),
+                                                  ("localize3d", "pose3d")])
+def test_localization_docstrings_state_the_presets(function, space_name):
+    """The localization functions' docstrings write their defaults out for the reader;
+    each value written must be the preset's (the one home), so the two cannot drift."""
+    import clap_unified.localization as loc
+
+    doc = getattr(loc, function).__doc__
+    written = _documented_defaults(doc)
+    assert len(written) >= 4, written
+    values = {}
+    for strategy in ("clap", "open3d", None):
+        try:
+            p = get_preset(space_name, strategy, task="localize")
+        except ValueError:
+            continue
+        values = {**p.fit, **p.options, **values} if strategy == "clap" else {**values,
+                                                                               **p.fit}
+    values.setdefault("open3d_iterations",
+                      get_preset("pose3d", "open3d", task="localize").fit["n_hypotheses"])
+    for name, text in written.items():
+        assert name in values, f"{function} documents ``{name}``, which no preset sets"
+        want = values[name]
+        got = text.strip('`"')
+        if isinstance(want, str):
+            assert got == want, (name, got, want)
+        else:
+            assert float(got) == pytest.approx(float(want)), (name, got, want)
+    if function == "localize3d":
+        gate = get_preset("pose3d", None, task="localize").fit
+        assert (f"a gate of {gate['max_translation']:g} m and "
+                f"{np.degrees(gate['max_rotation']):g} degrees") in " ".join(doc.split())
+
+
+def test_align_correspondences_docstring_states_its_preset():
+    from clap_unified.localization import align_correspondences
+
+    p = get_preset("rigid3d", None, task="localize").fit
+    doc = " ".join(align_correspondences.__doc__.split())
+    assert f"{p['n_hypotheses']} triplets, {p['threshold']:g} m" in doc

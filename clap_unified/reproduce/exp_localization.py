@@ -41,6 +41,22 @@ def _errors(rows, **match) -> list:
             for r in rows if all(r[k] == v for k, v in match.items())]
 
 
+def _sensitivity(options, key, words, *, note="", arrow=True, only=("half", "double")):
+    """Sensitivity variants of one CLAP option, halved and doubled from its preset value
+    (a count halved rounds up): ``{f"{key}_half": (label, {key: value}), ...}``, labels
+    such as "CLAP's bandwidth halved (0.15 -> 0.075)"."""
+    base = options[key]
+    values = {"half": base / 2 if isinstance(base, float) else -(-base // 2),
+              "double": base * 2}
+    out = {}
+    for how in only:
+        value = values[how]
+        shown = f"{base:g} -> {value:g}" if arrow else f"{value:g}"
+        verb = "halved" if how == "half" else "doubled"
+        out[f"{key}_{how}"] = (f"CLAP's {words} {verb} ({shown}{note})", {key: value})
+    return out
+
+
 # ------------------------------------------------------------------------- 3D
 #: 3D (as chapter 4): correct within 5 cm and 1 deg; a wrong pose is beyond 0.5 m or 5 deg.
 OK_3D, GROSS_3D = (0.05, 1.0), (0.5, 5.0)
@@ -189,12 +205,9 @@ def run_localization3d(params: dict, seed: int) -> dict:
     rows = []
     # variants that change only CLAP (RANSAC's rows are the primary's) or the mode
     clap_only = {
-        "min_support_half": ("CLAP's minimum support halved (3 -> 2)", {"min_support": 2}),
-        "min_support_double": ("CLAP's minimum support doubled (3 -> 6)", {"min_support": 6}),
-        "bandwidth_half": ("CLAP's bandwidth halved (0.15 -> 0.075; in local mode the gate, "
-                           "not the bandwidth, is the neighbourhood)", {"bandwidth": 0.075}),
-        "bandwidth_double": ("CLAP's bandwidth doubled (0.15 -> 0.3; in local mode the gate, "
-                             "not the bandwidth, is the neighbourhood)", {"bandwidth": 0.3}),
+        **_sensitivity(CLAP_3D, "min_support", "minimum support"),
+        **_sensitivity(CLAP_3D, "bandwidth", "bandwidth", note="; in local mode the gate, "
+                       "not the bandwidth, is the neighbourhood"),
         "consensus": ("CLAP answers with the cluster whose refined centre best explains the "
                       "detections (select='consensus') instead of the most supported",
                       {"select": "consensus"}),
@@ -331,9 +344,10 @@ _DEVIATIONS_3D = [
             "given"},
     {"paper": "Given an initial guess T_init, candidate poses are filtered by thresholding "
               "their distance to the reference pose (Sec. III-C)",
-     "here": "local mode is the primary protocol: the guess is the true pose moved 0.3 m and "
-             "3 deg in random directions (a tracking filter's prediction), the gate 0.5 m and "
-             "10 deg, the same for CLAP and RANSAC; global mode is a variant",
+     "here": "local mode is the primary protocol: the guess is the true pose moved "
+             f"{GUESS_3D[0]:g} m and {GUESS_3D[1]:g} deg in random directions (a tracking "
+             f"filter's prediction), the gate {GATE_3D[0]:g} m and {GATE_3D[1]:g} deg, the same "
+             "for CLAP and RANSAC; global mode is a variant",
      "why": "a choice: the paper's 3D method filters around T_init, and its experiment "
             "clusters 'as described in Section III'; the guess's error and the gate are "
             "unspecified"},
@@ -421,9 +435,9 @@ METHODS_2D = ("clap", "ransac", "randomized_hough")
 _CLAP_2D = get_preset("pose2d", "clap", task="localize").options
 #: CLAP's options changed by the sensitivity variants of ``localization2d`` (the library's
 #: defaults, ``_CLAP_2D``), and the controls' budget.
-VARIANTS_2D = {"bandwidth_half": ("CLAP's bandwidth halved (0.125)", {"bandwidth": 0.125}),
-               "bandwidth_double": ("CLAP's bandwidth doubled (0.5)", {"bandwidth": 0.5}),
-               "min_support_double": ("CLAP's minimum support doubled (2)", {"min_support": 2})}
+VARIANTS_2D = {**_sensitivity(_CLAP_2D, "bandwidth", "bandwidth", arrow=False),
+               **_sensitivity(_CLAP_2D, "min_support", "minimum support", arrow=False,
+                              only=("double",))}
 #: Control of 2d_outliers: in CLAP's place, RANSAC scoring this many random candidates.
 CONTROL_BUDGET_2D = 3
 #: Control of 2d_symmetry: the field's y coordinates scaled by this on its x < 0 half.

@@ -124,12 +124,7 @@ class Landmark2DSpace(HypothesisSpace):
         return self._manifold
 
     def check_data(self, data) -> np.ndarray:
-        if (type(data) is np.ndarray and data.dtype == np.float64 and data.ndim == 2
-                and data.shape[1] == 3 and len(data) >= self.min_samples
-                and np.isfinite(data).all()):
-            obs = data  # already what check_points returns (it would not copy)
-        else:
-            obs = check_points(data, "observations", dim=3, min_count=self.min_samples)
+        obs = check_points(data, "observations", dim=3, min_count=self.min_samples)
         ids = obs[:, 0]
         if np.any((ids != np.round(ids)) | (ids < 0) | (ids >= len(LANDMARK_TYPES))):
             raise ValueError("observations: column 0 must be a type id in "
