@@ -43,6 +43,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..spaces.homography import DEFAULT_THRESHOLD
+from ..viz.stitching import HOMOGRAPHY_STYLE
 from .progress import progress
 from .registry import experiment, finite_or_none
 
@@ -50,7 +51,11 @@ from .registry import experiment, finite_or_none
 #: :data:`~clap_unified.imaging.evaluation.EVALUATED` with shorter labels.
 METHODS = {"CLAP": ("clap_paper", False), "RANSAC": ("ransac", False),
            "MAGSAC++": ("magsac", False)}
-COLORS = {"CLAP": "C3", "RANSAC": "C0", "MAGSAC++": "C2", "CLAP ordered": "C1"}
+COLORS = {m: HOMOGRAPHY_STYLE[style]["color"] for m, style in (
+    ("CLAP", "CLAP (paper)"), ("RANSAC", "RANSAC (library)"), ("MAGSAC++", "cv2.USAC_MAGSAC"),
+    ("CLAP ordered", "CLAP (paper) ordered"))}
+#: Line styles of the CDFs, so that curves lying on each other stay visible.
+DASHES = {"RANSAC": (0, (5, 2)), "MAGSAC++": (0, (1, 1.5))}
 #: Inlier threshold, pixels of symmetric reprojection error: the homography presets' one
 #: threshold (:data:`~clap_unified.spaces.homography.DEFAULT_THRESHOLD`).
 THRESHOLD = DEFAULT_THRESHOLD
@@ -703,10 +708,10 @@ def figures_stitching_real(output: dict) -> dict:
         v = np.sort([r["sre_common_px"] if r["sre_common_px"] is not None else np.inf
                      for r in rows if r["method"] == m])
         a.step(v, np.arange(1, len(v) + 1) / len(v), where="post", color=COLORS.get(m),
-               label=m)
+               ls=DASHES.get(m, "-"), lw=1.6, label=m)
         q = np.sort([r["inlier_ratio"] for r in rows if r["method"] == m])
         b.step(q, np.arange(1, len(q) + 1) / len(q), where="post", color=COLORS.get(m),
-               label=m)
+               ls=DASHES.get(m, "-"), lw=1.6, label=m)
     a.set_xlabel("RMS symmetric reprojection error [px], on the matches\n"
                  "every method takes as inliers")
     a.set_ylabel("fraction of pairs")
