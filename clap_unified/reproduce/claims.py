@@ -893,7 +893,8 @@ def claim_block(entry: dict) -> str:
     >>> e = {"claim": "CLAP wins.", "section": "V", "verdict": "reproduced",
     ...      "measured": "CLAP (paper) 0.9, RANSAC 0.5", "data": ["toy"], "rule": "a rule",
     ...      "experiments": ["toy"], "sensitivity": [], "controls": [{"change": "a broken CLAP",
-    ...      "kind": "control", "verdict": "reproduced", "reaches": "no", "note": "it did not"}]}
+    ...      "kind": "control", "verdict": "reproduced", "headline": "CLAP (this row) 0.8",
+    ...      "reaches": "no", "note": "it did not"}]}
     >>> print(claim_block(e).splitlines()[2])
     **On the paper's protocol: reproduced.**
     """
