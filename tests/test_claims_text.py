@@ -104,7 +104,7 @@ def test_a_control_that_does_not_reach_the_other_verdict_says_so():
     assert c["verdict"] == "not reproduced"
     (control,) = c["controls"]
     assert control["verdict"] == "not reproduced" and control["reaches"] == "no"
-    assert "does not show that the rule can reach reproduced" in control["note"]
+    assert 'does not show that the rule can reach "reproduced"' in control["note"]
     assert "would have needed CLAP's share of correct frames above RANSAC's" in control["note"]
     block = claim_block(c)
     assert "A control that did not decide:" in block and control["note"] in block
@@ -124,7 +124,7 @@ def test_a_control_that_moves_only_to_partly_says_so():
     assert c["verdict"] == "not reproduced"
     assert c["controls"][0]["verdict"] == "partly reproduced"
     assert c["controls"][0]["reaches"] == "partly"
-    assert "moved the verdict only to partly reproduced" in c["controls"][0]["note"]
+    assert 'moved the verdict only to "partly reproduced"' in c["controls"][0]["note"]
 
 
 def test_a_partly_reproduced_2d_claim_says_why_from_its_numbers():

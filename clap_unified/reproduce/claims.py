@@ -705,11 +705,11 @@ def _control_reach(key: str, verdict: str, row: dict) -> tuple[str, str]:
     towards, away = NEEDED.get(key, ("the rule's other verdict", "the rule's other verdict"))
     needed = towards if target in ("reproduced", "another verdict") else away
     if reach == "partly":
-        return reach, (f"it moved the verdict only to {got}, not to {target}: it shows that "
-                       f"the rule can move, not that it can reach {target}, which would have "
-                       f"needed {needed}")
-    return reach, (f"it gave {got}, as the paper's protocol does, so it does not show that the "
-                   f"rule can reach {target} here; that would have needed {needed}")
+        return reach, (f"it moved the verdict only to \"{got}\", not to \"{target}\": it "
+                       f"shows that the rule can move, not that it can reach \"{target}\", "
+                       f"which would have needed {needed}")
+    return reach, (f"it gave \"{got}\", as the paper's protocol does, so it does not show that "
+                   f"the rule can reach \"{target}\" here; that would have needed {needed}")
 
 
 def _explain_2d(numbers: dict) -> str:
@@ -922,8 +922,9 @@ def claim_block(entry: dict) -> str:
             lines += ["", f"*A control that did not decide:* {r['change']}: {r['note']}."]
     rows = alternatives + entry.get("controls", [])
     if rows:
-        lines += ["", f"| what changed | kind | verdict | the number ({ROW_CLAP}: CLAP under "
-                      f"the row's change) |", "|---|---|---|---|"]
+        lines += ["", f"The alternatives and controls, each judged by the same rule (*{ROW_CLAP}*"
+                      f" is CLAP as the row's change leaves it):", "",
+                  "| what changed | kind | verdict | the number |", "|---|---|---|---|"]
         lines += [_row([r["change"], r["kind"], f"**{r['verdict']}**",
                         r.get("headline") or r["measured"]]) for r in rows]
     if entry.get("deviations"):
