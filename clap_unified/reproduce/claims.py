@@ -751,7 +751,7 @@ def judge_variants(claim: Claim, outputs: dict) -> list[dict]:
     list of dict
         ``{"key", "change", "kind", "verdict", "measured", "headline"}`` (the
         headline: the number that carries the verdict, CLAP named
-        :data:`ROW_CLAP`), in the order the experiments list them.
+        "CLAP (this row)"), in the order the experiments list them.
 
     Examples
     --------
@@ -833,7 +833,7 @@ def evaluate_claims(outputs: dict, skipped: dict | None = None) -> list[dict]:
     for c in CLAIMS:
         ran = [e for e in c.experiments if e in outputs]
         data = [outputs[e]["data"] for e in ran]
-        data += [f"{e} not run: {skipped[e]}" for e in c.experiments if e in skipped]
+        data += [f"`{e}` not run: {skipped[e]}" for e in c.experiments if e in skipped]
         deviations = list(c.deviations)
         for e in ran:
             deviations += [d for d in outputs[e].get("deviations", []) if d not in deviations]
@@ -938,8 +938,8 @@ def chapter_claims(chapter: str, claims: list | None = None) -> str:
 
     Without ``claims`` it states what is tested and how; with the evaluated
     claims (:func:`evaluate_claims`, ``Reproduction.claims``) each claim is a
-    :func:`claim_block` under its title, so that a chapter shows its claims as
-    the front page does without writing them a second time.
+    :func:`~clap_unified.reproduce.claim_block` under its title, so that a chapter shows its
+    claims as the front page does without writing them a second time.
 
     Examples
     --------

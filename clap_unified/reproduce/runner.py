@@ -383,7 +383,8 @@ def _row(cells) -> str:
 
 def claims_markdown(claims, details: bool = True) -> str:
     """The claims as Markdown: one short line per claim (its title, the verdict on the paper's
-    protocol, the number that carries it), then each claim's :func:`~.claims.claim_block` in
+    protocol, the number that carries it), then each claim's
+    :func:`~clap_unified.reproduce.claim_block` in
     a collapsed block (the book's front page shows the same).
 
     Examples
