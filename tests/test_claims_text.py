@@ -169,3 +169,17 @@ def test_the_texts_the_experiments_report_are_words():
         assert not _identifiers(text), (_identifiers(text), text)
         assert not text.lower().startswith("control:"), text  # the kind says it once
         assert "crippled" not in text
+
+
+def test_the_verdict_lines_name_claims_by_title_count_the_rest_and_fit_the_column():
+    from clap_unified.reproduce import verdict_lines
+
+    claims = evaluate_claims({**_outputs_2d((0.9, 0.9, 0.7), (0.9, 0.9, 0.6), (0.3,) * 3),
+                              **_outputs_3d(0.7, 0.7, 0.0)})
+    text = verdict_lines(claims)
+    lines = text.splitlines()
+    assert len(lines) == 2 * len(claims)
+    assert not _identifiers(text) and max(map(len, lines)) <= 95
+    c = _claim(claims, "2d_outliers")
+    assert f"{c['title']}: partly reproduced on the paper's protocol" in lines
+    assert "controls: 1 not reproduced" in text

@@ -965,24 +965,32 @@ def chapter_claims(chapter: str, claims: list | None = None) -> str:
     return "\n".join(items)
 
 
+def _counts(rows: list) -> str:
+    """``"2 reproduced, 1 partly reproduced"``: the verdicts of ``rows``, counted in order."""
+    verdicts = [r["verdict"] for r in rows]
+    return ", ".join(f"{verdicts.count(v)} {v}" for v in dict.fromkeys(verdicts)) or "none"
+
+
 def verdict_lines(claims: list, chapter: str | None = None) -> str:
-    """One plain-text line per verdict (protocol, alternatives, controls) of the claims of
-    ``chapter`` (all claims when None): what ``pytest --nbval`` compares in a chapter.
+    """Two plain-text lines per claim of ``chapter`` (all claims when None): its title and
+    the verdict on the paper's protocol, then the verdicts of its alternatives and of its
+    controls, counted: what ``pytest --nbval`` compares in a chapter (the claim's block shows
+    each); every line fits the text column (95 characters).
 
     Examples
     --------
-    >>> claim = {"key": "k", "chapter": "c", "verdict": "reproduced", "sensitivity": [],
+    >>> claim = {"key": "k", "title": "CLAP wins", "chapter": "c", "verdict": "reproduced",
+    ...          "sensitivity": [{"verdict": "reproduced"}, {"verdict": "partly reproduced"}],
     ...          "controls": [{"change": "a broken method", "verdict": "not reproduced"}]}
     >>> print(verdict_lines([claim]))
-    k: reproduced (the paper's protocol)
-    k: not reproduced (control: a broken method)
+    CLAP wins: reproduced on the paper's protocol
+    alternatives: 1 reproduced, 1 partly reproduced; controls: 1 not reproduced
     """
     lines = []
     for c in claims:
         if chapter is not None and c["chapter"] != chapter:
             continue
-        lines.append(f"{c['key']}: {c['verdict']} (the paper's protocol)")
-        lines += [f"{c['key']}: {r['verdict']} ({r['change']})" for r in c["sensitivity"]]
-        lines += [f"{c['key']}: {r['verdict']} (control: {r['change'].removeprefix('control: ')})"
-                  for r in c["controls"]]
+        lines += [f"{c.get('title') or c['key']}: {c['verdict']} on the paper's protocol",
+                  f"alternatives: {_counts(c['sensitivity'])}; controls: "
+                  f"{_counts(c['controls'])}"]
     return "\n".join(lines)
