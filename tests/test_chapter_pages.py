@@ -216,3 +216,34 @@ def test_project_talk_is_caught_and_the_football_goal_is_not():
         "honest", "goals the library", "goals of the multi-model work"]
     assert project_talk(["x towards the opponent goal", "the goals are identical",
                          "one goal's crossbars"]) == []
+
+
+#: Anecdotes of the project's own runs, where a page should state a measurement (glued) or
+#: nothing: "took more than three minutes on the machine that built this book".
+BUILD_ANECDOTE = re.compile(
+    r"machine that built|\bwe tried\b|\bcrippled\b|took (?:more than|over|about) [^.]{0,40}"
+    r"(?:minutes?|hours?|seconds?)", flags=re.IGNORECASE)
+#: A bare "CLAP" beside a number: before a glued value or a digit, or right after one
+#: ("5.0 % for CLAP,"), where the book measures more than one CLAP.
+BARE_CLAP_NUMBER = re.compile(r"\bCLAP(?!\s*\()[\s:]*(?:\{glue|\d)|[\d`][^|.;`]{0,12} for "
+                              r"CLAP\b(?!\s*\()")
+FRONT_PAGES = ("intro.md", "choosing.md")
+
+
+def test_the_front_pages_tell_no_anecdotes_and_name_each_clap():
+    for name in FRONT_PAGES:
+        text = (BOOK.parent / name).read_text(encoding="utf-8")
+        assert not BUILD_ANECDOTE.findall(text), (name, BUILD_ANECDOTE.findall(text))
+        assert not BARE_CLAP_NUMBER.findall(text), (name, BARE_CLAP_NUMBER.findall(text))
+
+
+def test_anecdotes_and_bare_claps_are_caught():
+    assert BUILD_ANECDOTE.findall("the run took more than three minutes on the machine that "
+                                  "built this book") == ["took more than three minutes",
+                                                         "machine that built"]
+    assert not BUILD_ANECDOTE.search("the median time per estimate, measured when the book "
+                                     "was built")
+    assert BARE_CLAP_NUMBER.search("for RANSAC and {glue:text}`x` for CLAP; CLAP gives")
+    assert BARE_CLAP_NUMBER.search("at 80 %: CLAP {glue:text}`c4`")
+    assert not BARE_CLAP_NUMBER.search("{glue:text}`x` for CLAP (paper); CLAP (paper) "
+                                       "{glue:text}`y`")

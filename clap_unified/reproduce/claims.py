@@ -11,11 +11,13 @@ noise a result. A claim whose data set is missing is ``"data unavailable"``.
 from __future__ import annotations
 
 import math
+import re
 from collections.abc import Callable
 from dataclasses import dataclass
 
 __all__ = ["CLAIMS", "MARGIN", "VARIANT_KINDS", "VERDICTS", "WHY", "Claim", "chapter_claims",
-           "deviation", "evaluate_claims", "judge_variants", "rates_differ", "verdict_lines",
+           "claim_block", "deviation", "evaluate_claims", "judge_variants", "rates_differ",
+           "verdict_lines",
            "wilson_lower"]
 
 #: The four verdicts a claim can get, from best to no data.
@@ -26,7 +28,7 @@ WHY = ("data unavailable", "unspecified in the paper", "a choice")
 #: Kinds of variant an experiment may report beside the paper's protocol: a reasonable
 #: alternative, one of the package's extensions, or a control (a perturbed method or data set
 #: that shows the rule can reach the other verdict: "not reproduced" for a reproduced claim, a
-#: win for CLAP against a crippled baseline for one that is not).
+#: win for CLAP against a deliberately weakened baseline for one that is not).
 VARIANT_KINDS = ("sensitivity", "extension", "control")
 
 #: Two success rates differ only when they differ by more than this (and by 2 standard errors).
@@ -66,6 +68,9 @@ class Claim:
         Where the rule itself departs from the paper or fills in what it leaves
         open, each ``{"paper", "here", "why"}``; the experiments add theirs
         (the ``deviations`` of their outputs).
+    clap_name : str
+        The name the chapters give the CLAP the claim measures on the paper's
+        protocol; every number of CLAP in the claim's texts carries it.
     """
 
     key: str
@@ -77,6 +82,7 @@ class Claim:
     chapter: str
     reading: str = ""
     deviations: tuple = ()
+    clap_name: str = "CLAP (paper)"
 
 
 def deviation(paper: str, here: str, why: str) -> dict:
@@ -362,15 +368,25 @@ def _judge_evd(outputs):
         {"recall_clap_more": more, "recall_ransac_more": fewer, **lie}
 
 
-def _judge_2d(outputs):
-    n = outputs["localization2d"]["numbers"]
+def _halves_2d(n):
+    """The 2D rule's two halves on the rate table ``n``: ``(robust, no_worse, best, top,
+    behind)``: CLAP's share at the highest rate ``top`` not below its best (at rate
+    ``best``), CLAP nowhere below RANSAC (``behind``: the rates where it is)."""
     rates = sorted({k.split("@")[1] for k in n if "@" in k})
     c = {r: n[f"clap@{r}"] for r in rates}
     best = max(rates, key=lambda r: c[r]["ok"])
     top = rates[-1]
     robust = rates_differ(c[top]["ok"], c[top]["n"], c[best]["ok"], c[best]["n"]) >= 0
-    no_worse = all(rates_differ(c[r]["ok"], c[r]["n"], n[f"ransac@{r}"]["ok"],
-                                n[f"ransac@{r}"]["n"]) >= 0 for r in rates)
+    behind = [r for r in rates if rates_differ(c[r]["ok"], c[r]["n"], n[f"ransac@{r}"]["ok"],
+                                               n[f"ransac@{r}"]["n"]) < 0]
+    return robust, not behind, best, top, behind
+
+
+def _judge_2d(outputs):
+    n = outputs["localization2d"]["numbers"]
+    rates = sorted({k.split("@")[1] for k in n if "@" in k})
+    c = {r: n[f"clap@{r}"] for r in rates}
+    robust, no_worse, _, top, _ = _halves_2d(n)
     verdict = ("reproduced" if robust and no_worse else
                "partly reproduced" if robust or no_worse else "not reproduced")
     measured = "; ".join(f"{float(r):.0%} false: CLAP {n[f'clap@{r}']['ok']:.2f}, RANSAC "
@@ -399,8 +415,9 @@ CLAIMS = [
           "Experiments and Results, 3D Localization Results (error CDF)",
           ("localization3d",),
           "reproduced when at every false-detection ratio above 50 % CLAP's share of correct "
-          "frames (within 5 cm and 1 deg) is above RANSAC's (rates_differ: by more than 0.05 "
-          "and 2 standard errors) and at least 0.8; partly when above at some ratio, or at "
+          "frames (within 5 cm and 1 deg) is above RANSAC's (by more than 0.05 and by more "
+          "than two standard errors of the difference, a two-proportion test) and at least "
+          "0.8; partly when above at some ratio, or at "
           "least 0.8 and never below; else not reproduced. A frame without a pose is not "
           "correct",
           _judge_3d, "04_localization_3d",
@@ -420,11 +437,12 @@ CLAIMS = [
           ("localization3d",),
           "a wrong pose is one returned beyond 0.5 m or 5 deg (a frame without a pose is "
           "not one); the claim's two halves: CLAP consistently correct (at least 0.8 of the "
-          "frames within 5 cm and 1 deg at every ratio above 50 %, nowhere below RANSAC by "
-          "rates_differ) and, at one ratio above 50 %, RANSAC returning wrong poses more "
-          "often than CLAP and CLAP correct more often than RANSAC (both by rates_differ: "
-          "the frames RANSAC gets wrong are frames CLAP gets right; fewer wrong poses "
-          "without more correct ones do not count); reproduced when both halves hold and "
+          "frames within 5 cm and 1 deg at every ratio above 50 %, nowhere below RANSAC by a "
+          "two-proportion test: a difference of more than 0.05 and more than two standard "
+          "errors) and, at one ratio above 50 %, RANSAC returning wrong poses more often than "
+          "CLAP and CLAP correct more often than RANSAC (both by that test: the frames RANSAC "
+          "gets wrong are frames CLAP gets right; fewer wrong poses without more correct ones "
+          "do not count); reproduced when both halves hold and "
           "RANSAC is less often wrong at no ratio; partly when the second holds alone (or "
           "CLAP is consistently correct and, at one ratio, RANSAC's shares are merely wrong "
           "more often and correct less often); not reproduced when neither holds or CLAP "
@@ -517,8 +535,9 @@ CLAIMS = [
           "Abstract (the predecessor's 2D localization)",
           ("localization2d",),
           "reproduced when CLAP's share of correct frames at the highest false-detection rate "
-          "is not below its best share at any rate, and at no rate below RANSAC's "
-          "(rates_differ); partly: one of the two; else not reproduced",
+          "is not below its best share at any rate, and at no rate below RANSAC's (below: "
+          "by more than 0.05 and by more than two standard errors of the difference, a "
+          "two-proportion test); partly: one of the two; else not reproduced",
           _judge_2d, "03_localization_2d",
           deviations=(
               deviation("robustness against outliers (abstract, the predecessor's result)",
@@ -558,7 +577,8 @@ CLAIMS = [
                         "beside a classical and a published multi-model method",
                         "unspecified in the paper: a choice of the field's standard measure"),),
           reading="when data hold several structures, CLAP's clusters find them as well as "
-                  "the multi-model methods of the field"),
+                  "the multi-model methods of the field",
+          clap_name="CLAP (paper, raw clusters)"),
 ]
 
 
@@ -614,6 +634,108 @@ HEADLINES = {
 }
 
 
+#: The name CLAP carries in an alternative's numbers: the row's change says which CLAP it is.
+ROW_CLAP = "CLAP (this row)"
+#: "CLAP" followed by a number (or by "/ RANSAC" and numbers) with no qualifier in brackets:
+#: the texts never leave it so, since the chapters measure more than one CLAP.
+BARE_CLAP = re.compile(r"\bCLAP\b(?!\s*\()(?=[\s:]*\d| / RANSAC)")
+
+
+def _qualify(text: str, name: str) -> str:
+    """``text`` with every bare "CLAP" before a number named ``name``.
+
+    Examples
+    --------
+    >>> _qualify("CLAP 0.76, RANSAC 0.89; CLAP closer on 3", "CLAP (paper)")
+    'CLAP (paper) 0.76, RANSAC 0.89; CLAP closer on 3'
+    """
+    return BARE_CLAP.sub(name, text)
+
+
+#: Per claim, what a control would have needed to show to reach the other verdict: (towards
+#: "reproduced", towards "not reproduced").
+NEEDED = {
+    "3d_outliers": ("CLAP's share of correct frames above RANSAC's at every ratio above 50 % "
+                    "and at least 0.8, as against a weakened RANSAC",
+                    "CLAP's share of correct frames below 0.8 and above RANSAC's at no ratio"),
+    "3d_spurious": ("at one ratio above 50 %, RANSAC wrong more often and CLAP correct more "
+                    "often, with CLAP correct in at least 0.8 of the frames everywhere, as "
+                    "against a RANSAC without the gate",
+                    "CLAP wrong more often than RANSAC at some ratio, or neither half holding"),
+    "vpg_lie": ("CLAP closer than RANSAC on more pairs, and broken down no more often, on "
+                "every data set", "CLAP closer on no data set"),
+    "stitching_stable": ("CLAP steadier than RANSAC on more pairs on every data set",
+                         "CLAP steadier on no data set"),
+    "vpg_real_sre": ("similar accuracy on most pairs with confidence",
+                     "similar accuracy on fewer than half of the pairs, as when one method is "
+                     "far worse than the other"),
+    "stitching_outliers": ("CLAP keeping more labelled inliers than RANSAC on more pairs and "
+                           "closer to the ground truth on more pairs",
+                           "RANSAC ahead by both measures"),
+    "2d_outliers": ("CLAP's share at the highest rate not below its best and nowhere below "
+                    "RANSAC's", "both halves failing"),
+    "2d_symmetry": ("the pose and its mirror tied in at least 80 % of the frames",
+                    "the pose and its mirror tied in fewer than half of the frames"),
+    "several_answers": ("CLAP's mean error below both the MAGSAC++ loop's and the published "
+                        "Progressive-X's", "CLAP's mean error above both"),
+}
+
+
+def _control_reach(key: str, verdict: str, row: dict) -> tuple[str, str]:
+    """Whether a control reached the other verdict (``"yes"``, ``"partly"``: only to "partly
+    reproduced", ``"no"``) and, when it did not, a sentence saying so and what it needed.
+
+    Examples
+    --------
+    >>> _control_reach("2d_symmetry", "reproduced", {"verdict": "not reproduced"})
+    ('yes', '')
+    >>> _control_reach("2d_symmetry", "reproduced", {"verdict": "reproduced"})[0]
+    'no'
+    """
+    got = row["verdict"]
+    target = {"reproduced": "not reproduced", "not reproduced": "reproduced"}.get(verdict)
+    if target is None:  # a partly reproduced claim: any other verdict is a move
+        reach = "yes" if got not in (verdict, "data unavailable") else "no"
+        target = "another verdict"
+    else:
+        reach = ("yes" if got == target else
+                 "partly" if got not in (verdict, "data unavailable") else "no")
+    if reach == "yes":
+        return reach, ""
+    towards, away = NEEDED.get(key, ("the rule's other verdict", "the rule's other verdict"))
+    needed = towards if target in ("reproduced", "another verdict") else away
+    if reach == "partly":
+        return reach, (f"it moved the verdict only to \"{got}\", not to \"{target}\": it "
+                       f"shows that the rule can move, not that it can reach \"{target}\", "
+                       f"which would have needed {needed}")
+    return reach, (f"it gave \"{got}\", as the paper's protocol does, so it does not show that "
+                   f"the rule can reach \"{target}\" here; that would have needed {needed}")
+
+
+def _explain_2d(numbers: dict) -> str:
+    """The 2D outlier claim's two halves in words, from its numbers."""
+    robust, no_worse, best, top, behind = _halves_2d(numbers)
+
+    def ok(r):
+        return numbers[f"clap@{r}"]["ok"]
+
+    first = (f"CLAP's share of correct frames at the highest false-detection rate "
+             f"({ok(top):.2f} at {float(top):.0%}) is not below its best ({ok(best):.2f} at "
+             f"{float(best):.0%}), so the first half holds" if robust else
+             f"CLAP's share of correct frames falls from its best, {ok(best):.2f} at "
+             f"{float(best):.0%} false detections, to {ok(top):.2f} at {float(top):.0%}, a "
+             f"drop beyond the two-proportion test, so the first half (no fall as false "
+             f"detections grow) fails")
+    second = ("CLAP is below RANSAC at no rate, so the second half holds" if no_worse else
+              "CLAP is below RANSAC at " + ", ".join(f"{float(r):.0%}" for r in behind)
+              + ", so the second half fails")
+    return f"{first}; {second}."
+
+
+#: Per claim, a sentence that explains the verdict from the numbers (its rule's halves).
+EXPLAIN = {"2d_outliers": _explain_2d}
+
+
 def judge_variants(claim: Claim, outputs: dict) -> list[dict]:
     """The claim's rule re-run under every variant its experiments report.
 
@@ -627,8 +749,9 @@ def judge_variants(claim: Claim, outputs: dict) -> list[dict]:
     Returns
     -------
     list of dict
-        ``{"key", "change", "kind", "verdict", "measured"}``, in the order the
-        experiments list them.
+        ``{"key", "change", "kind", "verdict", "measured", "headline"}`` (the
+        headline: the number that carries the verdict, CLAP named
+        "CLAP (this row)"), in the order the experiments list them.
 
     Examples
     --------
@@ -644,6 +767,7 @@ def judge_variants(claim: Claim, outputs: dict) -> list[dict]:
         for key, v in (outputs.get(e, {}).get("variants") or {}).items():
             if claim.key in v.get("claims", (claim.key,)):
                 keys.setdefault(key, v)
+    headline = HEADLINES.get(claim.key, ("", None))[1]
     rows = []
     for key, first in keys.items():
         kind = first.get("kind", "sensitivity")
@@ -656,11 +780,17 @@ def judge_variants(claim: Claim, outputs: dict) -> list[dict]:
                 changed[e] = {**outputs[e], "numbers": v.get("numbers", {}),
                               "tables": v.get("tables", outputs[e].get("tables", {}))}
         try:
-            verdict, measured, _ = claim.judge(changed)
+            verdict, measured, numbers = claim.judge(changed)
         except KeyError as exc:  # the variant lacks what this claim's rule reads
-            verdict, measured = "data unavailable", f"the variant does not measure {exc}"
+            verdict, measured, numbers = ("data unavailable",
+                                          f"the variant does not measure {exc}", {})
+        try:
+            line = headline(numbers) if headline and numbers else measured
+        except (KeyError, ValueError):  # the variant lacks what the headline reads
+            line = measured
         rows.append({"key": key, "change": first["label"], "kind": kind, "verdict": verdict,
-                     "measured": measured})
+                     "measured": _qualify(measured, ROW_CLAP),
+                     "headline": _qualify(line, ROW_CLAP)})
     return rows
 
 
@@ -677,15 +807,19 @@ def evaluate_claims(outputs: dict, skipped: dict | None = None) -> list[dict]:
     ``title`` and ``headline`` (a short name and the one number that carries
     the verdict, for the front page's table; "-" when nothing was measured);
     ``verdict`` (one of :data:`VERDICTS`: the rule on the paper's protocol as
-    the experiments read it), ``measured`` and ``numbers``; ``protocol`` (each
+    the experiments read it), ``measured`` and ``numbers`` (CLAP named as the
+    chapters name it: ``clap_name``); ``explanation`` (the verdict explained
+    from the numbers, "" when the claim has none); ``protocol`` (each
     experiment's one-line protocol); ``deviations`` (the rule's and the
     experiments' ``{"paper", "here", "why"}``); ``sensitivity`` (the verdict
     under each sensitivity and extension variant: ``{"key", "change",
-    "kind", "verdict", "measured"}``); ``controls`` (the same under the
-    controls: perturbed methods or data sets under which the rule must reach
-    the other verdict, so that it is seen to be able to); ``depends_on``
-    (the changes under which the verdict differs) and ``summary`` (the
-    verdict, with "depends on ..." when ``depends_on`` is not empty).
+    "kind", "verdict", "measured", "headline"}``); ``controls`` (the same
+    under the controls: perturbed methods or data sets under which the rule
+    must reach the other verdict, so that it is seen to be able to; each with
+    ``reaches``, ``"yes"``, ``"partly"`` or ``"no"``, and a ``note`` saying,
+    when it did not, what it would have needed); ``depends_on`` (the changes
+    under which the verdict differs) and ``summary`` (the verdict, with
+    "depends on ..." when ``depends_on`` is not empty).
 
     Parameters
     ----------
@@ -699,7 +833,7 @@ def evaluate_claims(outputs: dict, skipped: dict | None = None) -> list[dict]:
     for c in CLAIMS:
         ran = [e for e in c.experiments if e in outputs]
         data = [outputs[e]["data"] for e in ran]
-        data += [f"{e} not run: {skipped[e]}" for e in c.experiments if e in skipped]
+        data += [f"`{e}` not run: {skipped[e]}" for e in c.experiments if e in skipped]
         deviations = list(c.deviations)
         for e in ran:
             deviations += [d for d in outputs[e].get("deviations", []) if d not in deviations]
@@ -707,7 +841,7 @@ def evaluate_claims(outputs: dict, skipped: dict | None = None) -> list[dict]:
                  "experiments": list(c.experiments), "rule": c.rule, "chapter": c.chapter,
                  "data": data, "protocol": [outputs[e]["protocol"] for e in ran
                                             if outputs[e].get("protocol")],
-                 "deviations": deviations}
+                 "deviations": deviations, "clap_name": c.clap_name, "explanation": ""}
         rows = []
         if not ran:
             why = "; ".join(dict.fromkeys(skipped[e] for e in c.experiments if e in skipped))
@@ -715,78 +849,148 @@ def evaluate_claims(outputs: dict, skipped: dict | None = None) -> list[dict]:
             entry.update(verdict="data unavailable", measured=why, numbers={})
         else:
             verdict, measured, numbers = c.judge(outputs)
-            entry.update(verdict=verdict, measured=measured, numbers=numbers)
+            entry.update(verdict=verdict, measured=_qualify(measured, c.clap_name),
+                         numbers=numbers)
+            if c.key in EXPLAIN and numbers:
+                entry["explanation"] = EXPLAIN[c.key](numbers)
             rows = judge_variants(c, outputs)
         title, headline = HEADLINES.get(c.key, ("", None))
         entry["title"] = title or c.key
-        entry["headline"] = (headline(entry["numbers"]) if headline and entry["numbers"]
-                             else "-" if headline else entry["measured"])
+        entry["headline"] = _qualify(headline(entry["numbers"]) if headline and entry["numbers"]
+                                     else "-" if headline else entry["measured"], c.clap_name)
         assert entry["verdict"] in VERDICTS
         depends = _depends(entry["verdict"], rows)
         flips = [f"{r['change']}: {r['verdict']}" for r in rows if r["change"] in depends]
+        controls = [r for r in rows if r["kind"] == "control"]
+        for r in controls:
+            r["reaches"], r["note"] = _control_reach(c.key, entry["verdict"], r)
         entry.update(sensitivity=[r for r in rows if r["kind"] != "control"],
-                     controls=[r for r in rows if r["kind"] == "control"],
-                     depends_on=depends,
+                     controls=controls, depends_on=depends,
                      summary=entry["verdict"] + (" under the paper's protocol; depends on "
                                                  + "; ".join(flips) if flips else ""))
         out.append(entry)
     return out
 
 
-def chapter_claims(chapter: str, claims: list | None = None) -> str:
-    """Markdown list of the claims a chapter tests, with their rules and experiments.
+def _cell(s) -> str:
+    return str(s).replace("|", "\\|").replace("\n", " ")
 
-    Without ``claims`` the list states what is tested and how; with the
-    evaluated claims (:func:`evaluate_claims`, ``Reproduction.claims``) it
-    adds each verdict on the paper's protocol, the deviations, the verdict
-    under every alternative and under the controls, so that a chapter shows
-    its claims as the front page does without writing them a second time.
+
+def _row(cells) -> str:
+    return "| " + " | ".join(_cell(c) for c in cells) + " |"
+
+
+def claim_block(entry: dict) -> str:
+    """One evaluated claim as a short page block: a paragraph (the paper's words, how they
+    are read, the verdict and why, the rule, what was measured on which data), a sentence for
+    each control that did not reach the other verdict, then a table of the alternatives (one
+    row each: what changed, its kind, the verdict, the number that carries it) and one of the
+    deviations from the paper. Every fact is stated once; the chapters and the front page
+    show the same block.
 
     Examples
     --------
-    >>> print(chapter_claims("03_localization_2d").splitlines()[0][:41])
-    * *"CLAP is particularly recognized for i
+    >>> e = {"claim": "CLAP wins.", "section": "V", "verdict": "reproduced",
+    ...      "measured": "CLAP (paper) 0.9, RANSAC 0.5", "data": ["toy"], "rule": "a rule",
+    ...      "experiments": ["toy"], "sensitivity": [], "controls": [{"change": "a broken CLAP",
+    ...      "kind": "control", "verdict": "reproduced", "headline": "CLAP (this row) 0.8",
+    ...      "reaches": "no", "note": "it did not"}]}
+    >>> print(claim_block(e).splitlines()[2])
+    **On the paper's protocol: reproduced.**
+    """
+    reading = f" Read here as: {entry['reading']}." if entry.get("reading") else ""
+    lines = [f"*The paper:* \"{entry['claim']}\" ({entry['section']}).{reading}", ""]
+    verdict = f"**On the paper's protocol: {entry['verdict']}.**"
+    if entry.get("explanation"):
+        verdict += f" Why: {entry['explanation']}"
+    alternatives = entry.get("sensitivity", [])
+    if entry.get("depends_on"):
+        n = len(entry["depends_on"])
+        verdict += (f" {n} of {len(alternatives)} alternatives "
+                    + ("gives" if n == 1 else "give") + " another verdict (the table below).")
+    lines += [verdict, ""]
+    experiments = ", ".join(f"`{e}`" for e in entry.get("experiments", []))
+    lines += [f"*Rule* (experiment {experiments}): {entry['rule']}.", "",
+              f"*Measured:* {entry['measured']}.", "",
+              f"*Data:* {'; '.join(entry['data']) or '-'}."]
+    protocols = list(dict.fromkeys(entry.get("protocol", [])))
+    if protocols:
+        lines += ["", "*Protocol:* " + " ".join(f"({k}) {p}." if len(protocols) > 1 else f"{p}."
+                                                for k, p in enumerate(protocols, 1))]
+    for r in entry.get("controls", []):
+        if r.get("note"):
+            lines += ["", f"*A control that did not decide:* {r['change']}: {r['note']}."]
+    rows = alternatives + entry.get("controls", [])
+    if rows:
+        lines += ["", f"The alternatives and controls, each judged by the same rule (*{ROW_CLAP}*"
+                      f" is CLAP as the row's change leaves it):", "",
+                  "| what changed | kind | verdict | the number |", "|---|---|---|---|"]
+        lines += [_row([r["change"], r["kind"], f"**{r['verdict']}**",
+                        r.get("headline") or r["measured"]]) for r in rows]
+    if entry.get("deviations"):
+        lines += ["", "| the paper says | here | why |", "|---|---|---|"]
+        lines += [_row([d["paper"], d["here"], d["why"]]) for d in entry["deviations"]]
+    return "\n".join(lines) + "\n"
+
+
+def chapter_claims(chapter: str, claims: list | None = None) -> str:
+    """Markdown of the claims a chapter tests, with their rules and experiments.
+
+    Without ``claims`` it states what is tested and how; with the evaluated
+    claims (:func:`evaluate_claims`, ``Reproduction.claims``) each claim is a
+    :func:`~clap_unified.reproduce.claim_block` under its title, so that a chapter shows its
+    claims as the front page does without writing them a second time.
+
+    Examples
+    --------
+    >>> print(chapter_claims("03_localization_2d").splitlines()[0][:52])
+    **2D: robust against outliers.** *The paper:* "CLAP
     """
     judged = {c["key"]: c for c in claims or ()}
     items = []
     for c in CLAIMS:
         if c.chapter != chapter:
             continue
-        text = (f"* *\"{c.words}\"* ({c.section}). "
-                + (f"Read as: {c.reading}. " if c.reading else "")
-                + f"Experiment `{', '.join(c.experiments)}`; verdict rule: {c.rule}.")
+        title = HEADLINES.get(c.key, (c.key, None))[0]
         e = judged.get(c.key)
-        if e is not None:
-            text += f"\n\n  **Verdict: {e['summary']}.** Measured: {e['measured']}."
-            for d in e.get("deviations", []):
-                text += (f"\n  * Deviation. The paper: {d['paper']}. Here: {d['here']}. "
-                         f"Why: {d['why']}.")
-            for r in e.get("sensitivity", []) + e.get("controls", []):
-                text += f"\n  * {r['kind'].capitalize()}: {r['change']}: **{r['verdict']}**."
-        items.append(text)
+        if e is None:
+            reading = f" Read here as: {c.reading}." if c.reading else ""
+            items.append(f"**{title}.** *The paper:* \"{c.words}\" ({c.section}).{reading} "
+                         f"*Rule* (experiment {', '.join(f'`{x}`' for x in c.experiments)}): "
+                         f"{c.rule}.\n")
+        else:
+            items.append(f"**{title}**\n\n" + claim_block(e))
     if not items:
         raise ValueError(f"chapter: no claim is tested in {chapter!r}")
-    return "\n".join(items) + "\n"
+    return "\n".join(items)
+
+
+def _counts(rows: list) -> str:
+    """``"2 reproduced, 1 partly reproduced"``: the verdicts of ``rows``, counted in order."""
+    verdicts = [r["verdict"] for r in rows]
+    return ", ".join(f"{verdicts.count(v)} {v}" for v in dict.fromkeys(verdicts)) or "none"
 
 
 def verdict_lines(claims: list, chapter: str | None = None) -> str:
-    """One plain-text line per verdict (protocol, alternatives, controls) of the claims of
-    ``chapter`` (all claims when None): what ``pytest --nbval`` compares in a chapter.
+    """Two plain-text lines per claim of ``chapter`` (all claims when None): its title and
+    the verdict on the paper's protocol, then the verdicts of its alternatives and of its
+    controls, counted: what ``pytest --nbval`` compares in a chapter (the claim's block shows
+    each); every line fits the text column (95 characters).
 
     Examples
     --------
-    >>> claim = {"key": "k", "chapter": "c", "verdict": "reproduced", "sensitivity": [],
+    >>> claim = {"key": "k", "title": "CLAP wins", "chapter": "c", "verdict": "reproduced",
+    ...          "sensitivity": [{"verdict": "reproduced"}, {"verdict": "partly reproduced"}],
     ...          "controls": [{"change": "a broken method", "verdict": "not reproduced"}]}
     >>> print(verdict_lines([claim]))
-    k: reproduced (the paper's protocol)
-    k: not reproduced (control: a broken method)
+    CLAP wins: reproduced on the paper's protocol
+    alternatives: 1 reproduced, 1 partly reproduced; controls: 1 not reproduced
     """
     lines = []
     for c in claims:
         if chapter is not None and c["chapter"] != chapter:
             continue
-        lines.append(f"{c['key']}: {c['verdict']} (the paper's protocol)")
-        lines += [f"{c['key']}: {r['verdict']} ({r['change']})" for r in c["sensitivity"]]
-        lines += [f"{c['key']}: {r['verdict']} (control: {r['change'].removeprefix('control: ')})"
-                  for r in c["controls"]]
+        lines += [f"{c.get('title') or c['key']}: {c['verdict']} on the paper's protocol",
+                  f"alternatives: {_counts(c['sensitivity'])}; controls: "
+                  f"{_counts(c['controls'])}"]
     return "\n".join(lines)

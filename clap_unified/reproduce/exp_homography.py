@@ -22,7 +22,7 @@ shown as a modern reference. Every output also states the protocol
 (``protocol``), where it departs from the paper's words and why
 (``deviations``), and the same tables under each reasonable alternative
 (``variants``, :data:`VARIANTS`: sensitivity to one change, or a control, a
-crippled method or data set under which the claims' rules must fail). The
+deliberately weakened method or data set under which the claims' rules must fail). The
 variants reuse the primary's matches, seeds and, where a method is unchanged,
 its rows; their tables hold CLAP's and RANSAC's rows only (MAGSAC++ and the
 ordered CLAP of EVD are in the primary tables), each variant's ``numbers``
@@ -72,17 +72,17 @@ DEVIATIONS = [
      "here": "the same logarithm of the candidates taken in the Hartley-normalised frame of "
              "the matches (T2 H T1^-1, determinant 1), exact for every pair whose first-order "
              "distance ||Hn1^-1 Hn2 - I||_F is below 1 and the first-order value beyond (pairs "
-             "that far apart are never neighbours); variants lie_exact (every logarithm "
-             "exact) and lie_linear (the first-order value everywhere)",
+             "that far apart are never neighbours); two alternatives take the exact logarithm "
+             "for every pair and the first-order value for every pair",
      "why": "unspecified in the paper (the frame of the clustering); a choice: in pixels "
-            "the matrices mix entries of 1e2 and 1e-4 and the logarithm of all pairs of 400 "
-            "candidates takes about 2 s per estimate"},
+            "the matrices mix entries of 1e2 and 1e-4, and the exact logarithm of every pair "
+            "of 400 candidates is costly (the alternative that takes it runs fewer seeds)"},
     {"paper": "perform iterative clustering for 5 rounds, and discard 20% of the outliers at "
               "each iteration; Robust Single-Center (Trimming): iteratively refines the center "
               "by discarding outliers based on fractional trimming",
      "here": "over all 400 candidates: their medoid, then 5 rounds each keeping the 80 % "
-             "nearest the current medoid and taking their medoid (neighbourhood='all'); "
-             "variant trim_in_cluster trims inside the densest cluster instead",
+             "nearest the current medoid and taking their medoid (`neighbourhood='all'`); "
+             "an alternative trims inside the densest cluster instead",
      "why": "unspecified in the paper: the centre (the medoid, the first centre the paper "
             "lists) and what is trimmed (the words name no neighbourhood or bandwidth, so "
             "all candidates)"},
@@ -90,14 +90,14 @@ DEVIATIONS = [
               "optionally refined using inlier re-estimation with reprojection error checks",
      "here": "both methods: a DLT refit on the matches within 3 px (symmetric transfer error) "
              "of the estimate, repeated once more while the inlier set does not shrink; "
-             "variants polish_both (a reweighted-DLT polish after it for both) and "
-             "polish_clap_only (for CLAP alone: unequal, a sensitivity check)",
+             "two alternatives add a reweighted-DLT polish after it, for both methods or "
+             "for CLAP alone (unequal: a sensitivity check)",
      "why": "unspecified in the paper: the threshold and the number of refits (3 px, two)"},
     {"paper": "we generate 400 candidate homographies; we fix the RANSAC iteration budget "
               "to 1000",
      "here": "as the paper; with a ground-truth inlier ratio w, 400 candidates hold about "
-             "400 w^4 all-inlier samples (numbers: expected_all_inlier_samples); variants "
-             "equal_budget_400 and equal_budget_1000",
+             "400 w^4 all-inlier samples (the experiment reports this expected count); two "
+             "alternatives give both methods the same budget, 400 or 1000",
      "why": "a choice: the paper's budgets as stated, with the equal budgets shown beside them"},
 ]
 
@@ -128,8 +128,8 @@ VARIANTS = (
     Variant("polish_clap_only", "CLAP alone ends with the reweighted-DLT polish "
             "(unequal: RANSAC as in the primary)",
             "sensitivity", {"polish": True}),
-    Variant("clap_densest", "CLAP by another reading of the paper's words (protocol "
-            "'clap_densest': first-order distance, trimming inside the densest cluster, "
+    Variant("clap_densest", "CLAP by another reading of the paper's words (the protocol "
+            "`clap_densest`: first-order distance, trimming inside the densest cluster, "
             "polish for CLAP only); RANSAC as in the primary", "sensitivity",
             {"method": "clap_densest"}),
     Variant("lie_linear", "CLAP clusters by the first-order distance "
@@ -141,28 +141,32 @@ VARIANTS = (
     Variant("trim_in_cluster", "CLAP trims inside the densest cluster (seed with the most "
             "candidates within a bandwidth, the 2 % quantile of the 4-NN distances; at least "
             "3 members) instead of over all candidates", "sensitivity", _TRIM_IN_CLUSTER),
-    Variant("bandwidth_half", "trim_in_cluster with the bandwidth quantile halved (1 %; the "
+    Variant("bandwidth_half", "CLAP trimming inside the densest cluster, with the "
+            "bandwidth quantile halved (1 %; the "
             "primary, over all candidates, has no bandwidth)", "sensitivity",
             {**_TRIM_IN_CLUSTER, "bandwidth_quantile": 0.01}),
-    Variant("bandwidth_double", "trim_in_cluster with the bandwidth quantile doubled (4 %; the "
+    Variant("bandwidth_double", "CLAP trimming inside the densest cluster, with the "
+            "bandwidth quantile doubled (4 %; the "
             "primary, over all candidates, has no bandwidth)", "sensitivity",
             {**_TRIM_IN_CLUSTER, "bandwidth_quantile": 0.04}),
-    Variant("min_support_half", "trim_in_cluster with the minimum support of a cluster lowered "
+    Variant("min_support_half", "CLAP trimming inside the densest cluster, with the "
+            "minimum support of a cluster lowered "
             "from 3 to 2 candidates (the primary, over all candidates, has none)", "sensitivity",
             {**_TRIM_IN_CLUSTER, "min_support": 2}),
-    Variant("min_support_double", "trim_in_cluster with the minimum support of a cluster raised "
+    Variant("min_support_double", "CLAP trimming inside the densest cluster, with the "
+            "minimum support of a cluster raised "
             "from 3 to 6 candidates (the primary, over all candidates, has none)", "sensitivity",
             {**_TRIM_IN_CLUSTER, "min_support": 6}),
     Variant("equal_budget_400", "RANSAC with 400 iterations, CLAP's candidate count",
             "sensitivity", None, {"n_hypotheses": 400}),
     Variant("equal_budget_1000", "CLAP with 1000 candidates, RANSAC's iteration count",
             "sensitivity", {"n_hypotheses": 1000}, max_seeds=2),
-    Variant("ransac_10", "control: RANSAC with 10 iterations instead of 1000 (a crippled "
+    Variant("ransac_10", "RANSAC with 10 iterations instead of 1000 (a deliberately weakened "
             "baseline: the rules must be able to see it)", "control", None,
             {"n_hypotheses": 10}),
-    Variant("ransac_no_refit", "control: RANSAC returns its best sample's homography, no "
+    Variant("ransac_no_refit", "RANSAC returns its best sample's homography, no "
             "refit on the inliers", "control", None, {"refine": False}),
-    Variant("extra_outliers", "control: as many random matches (uniform in both images) "
+    Variant("extra_outliers", "as many random matches (uniform in both images) "
             "added to each pair's matches as it has, the same for both methods",
             "control", data="extra_outliers", experiments=("stitching_real",)),
 )
@@ -662,11 +666,12 @@ def run_stitching_real(params: dict, seed: int) -> dict:
 
     rows, numbers = table(None)
     out = {"data": "eleven real panorama sets (substitute for VPG S13-S36): parallax, no "
-                   "ground truth (stitching_sets); SIFT matches as input",
+                   "ground truth (the `stitching_sets` data); SIFT matches as input",
            "protocol": PROTOCOL,
            "deviations": [*DEVIATIONS,
                           {"paper": "VPG S13-S36, real-world examples without ground truth",
-                           "here": "eleven real panorama sets with parallax (stitching_sets), "
+                           "here": "eleven real panorama sets with parallax (the `stitching_sets` "
+                                   "data), "
                                    f"images downscaled to {params['max_side']} px, SIFT "
                                    "matches with Lowe's ratio test",
                            "why": _SUBSTITUTE},

@@ -298,14 +298,14 @@ def run_localization3d(params: dict, seed: int) -> dict:
                      f"guess), {b} random triplets for both methods, global mode",
             "kind": "extension", "numbers": numbers(var_rows[f"correspondences_{b}"])}
     variants["control_silent"] = {
-        "label": f"control: CLAP with a minimum support of {CONTROL_SUPPORT_3D} (it never "
+        "label": f"CLAP with a minimum support of {CONTROL_SUPPORT_3D} (it never "
                  "answers), RANSAC as in the primary protocol", "kind": "control",
         "claims": ["3d_outliers"],
         "numbers": numbers(ransac_rows + var_rows["control_silent"])}
     local_rows, global_rows = ((primary, var_rows["other_mode"]) if mode == "local"
                                else (var_rows["other_mode"], primary))
     variants["control_ungated"] = {
-        "label": "control: CLAP without the gate (global mode: on the symmetric field mostly "
+        "label": "CLAP without the gate (global mode: on the symmetric field mostly "
                  "the mirror image), RANSAC with it (local mode), on the same candidates",
         "kind": "control", "claims": ["3d_spurious"],
         "numbers": numbers([r for r in local_rows if r["method"] == "ransac"]

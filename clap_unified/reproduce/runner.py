@@ -31,7 +31,7 @@ from pathlib import Path
 import numpy as np
 
 from . import progress as _progress
-from .claims import evaluate_claims
+from .claims import claim_block, evaluate_claims
 from .data import missing_datasets
 from .registry import EXPERIMENTS, finite_or_none, seed_for
 
@@ -383,9 +383,9 @@ def _row(cells) -> str:
 
 def claims_markdown(claims, details: bool = True) -> str:
     """The claims as Markdown: one short line per claim (its title, the verdict on the paper's
-    protocol, the number that carries it), then each claim's words, measurement, data,
-    protocol, deviations, sensitivity and controls in a collapsed block (the book's front page
-    shows the same).
+    protocol, the number that carries it), then each claim's
+    :func:`~clap_unified.reproduce.claim_block` in
+    a collapsed block (the book's front page shows the same).
 
     Examples
     --------
@@ -411,44 +411,33 @@ def claims_markdown(claims, details: bool = True) -> str:
                            c.get("headline") or c["measured"]]))
     if details:
         for i, c in enumerate(claims, 1):
-            reading = f" Read as: {c['reading']}." if c.get("reading") else ""
-            protocols = list(dict.fromkeys(c.get("protocol", [])))
-            body = [f"**{c.get('summary', c['verdict'])}.**",
-                    f"*The paper:* {c['claim']} *({c['section']})*{reading}",
-                    f"*Measured:* {c['measured']}.",
-                    f"*Data:* {'; '.join(c['data']) or '-'}."]
-            if protocols:
-                body.append("*Protocol:* " + " ".join(
-                    f"({k}) {p}." if len(protocols) > 1 else f"{p}."
-                    for k, p in enumerate(protocols, 1)))
-            lines += ["", f"<details><summary>{i}. {c.get('title') or c['key']} "
-                      f"(<code>{c['key']}</code>): {c['verdict']}</summary>", ""]
-            lines += [x for line in body for x in (line, "")][:-1]
-            if c.get("deviations"):
-                lines += ["", "| the paper | here | why |", "|---|---|---|"]
-                lines += [_row([d["paper"], d["here"], d["why"]]) for d in c["deviations"]]
-            rows = c.get("sensitivity", []) + c.get("controls", [])
-            if rows:
-                lines += ["", "| alternative | kind | verdict | measured |", "|---|---|---|---|"]
-                lines += [_row([r["change"], r["kind"], f"**{r['verdict']}**", r["measured"]])
-                          for r in rows]
-            lines += ["", "</details>"]
+            lines += ["", f"<details><summary>{i}. {c.get('title') or c['key']}: "
+                      f"{c['verdict']}</summary>", "", claim_block(c).rstrip("\n"), "",
+                      "</details>"]
     return "\n".join(lines) + "\n"
+
+
+def _controls_cell(controls) -> str:
+    """The controls' verdicts, each marked when it did not reach the other verdict."""
+    marks = {"partly": " (moved part of the way)", "no": " (did not move)"}
+    return "; ".join(r["verdict"] + marks.get(r.get("reaches"), "") for r in controls) or "-"
 
 
 def verdicts_markdown(claims) -> str:
     """A short table of the verdicts: on the paper's protocol, how many alternatives change it
-    (and to what), and the controls' verdicts. The decision guide shows it.
+    (and to what), and the controls' verdicts, each marked when it did not reach the other
+    verdict. The decision guide shows it.
 
     Examples
     --------
-    >>> claim = {"key": "k", "verdict": "reproduced", "depends_on": [],
+    >>> claim = {"key": "k", "title": "CLAP wins", "verdict": "reproduced", "depends_on": [],
     ...          "sensitivity": [{"verdict": "reproduced"}],
-    ...          "controls": [{"verdict": "not reproduced"}]}
+    ...          "controls": [{"verdict": "not reproduced", "reaches": "yes"},
+    ...                       {"verdict": "reproduced", "reaches": "no"}]}
     >>> print(verdicts_markdown([claim]))
     | claim | on the paper's protocol | alternatives that change it | controls |
     |---|---|---|---|
-    | k | **reproduced** | none of 1 | not reproduced |
+    | CLAP wins | **reproduced** | none of 1 | not reproduced; reproduced (did not move) |
     <BLANKLINE>
     """
     lines = ["| claim | on the paper's protocol | alternatives that change it | controls |",
@@ -460,8 +449,8 @@ def verdicts_markdown(claims) -> str:
         changed = (f"{len(flips)} of {len(alt)}: "
                    + ", ".join(f"{flips.count(v)} {v}" for v in dict.fromkeys(flips))
                    if flips else f"none of {len(alt)}")
-        controls = ", ".join(r["verdict"] for r in c.get("controls", [])) or "-"
-        lines.append(_row([c["key"], f"**{c['verdict']}**", changed, controls]))
+        lines.append(_row([c.get("title") or c["key"], f"**{c['verdict']}**", changed,
+                           _controls_cell(c.get("controls", []))]))
     return "\n".join(lines) + "\n"
 
 
