@@ -183,3 +183,41 @@ def test_the_verdict_lines_name_claims_by_title_count_the_rest_and_fit_the_colum
     c = _claim(claims, "2d_outliers")
     assert f"{c['title']}: partly reproduced on the paper's protocol" in lines
     assert "controls: 1 not reproduced" in text
+
+
+def _entry(rows, controls):
+    return {"claim": "CLAP wins.", "section": "V", "verdict": "not reproduced",
+            "measured": "CLAP (paper) 0.1", "data": ["toy"], "rule": "a rule",
+            "experiments": ["toy"], "sensitivity": rows, "controls": controls,
+            "depends_on": [r["change"] for r in rows if r["kind"] == "sensitivity"
+                           and r["verdict"] != "not reproduced"]}
+
+
+def test_extensions_are_counted_apart_from_the_alternatives():
+    """The package's extensions change the setting, not the paper's protocol: a claim whose
+    only other verdicts come from extensions does not 'depend' on them (claim 9 read "7 of 7
+    alternatives differ" where all seven were the library's CLAP)."""
+    from clap_unified.reproduce.claims import _depends
+
+    ext = [{"change": f"library CLAP {i}", "kind": "extension", "verdict": "reproduced",
+            "headline": "x"} for i in range(3)]
+    sens = [{"change": "a budget", "kind": "sensitivity", "verdict": "reproduced",
+             "headline": "x"}, {"change": "a bandwidth", "kind": "sensitivity",
+                                "verdict": "not reproduced", "headline": "x"}]
+    assert _depends("not reproduced", ext) == []
+    assert _depends("not reproduced", ext + sens) == ["a budget"]
+    block = claim_block(_entry(ext + sens, []))
+    assert "1 of 2 alternatives of the protocol gives another verdict" in block
+    assert "3 of the package's 3 extensions reach another verdict" in block
+    table = claims_markdown([{**_entry(ext, []), "key": "k", "title": "t"}], details=False)
+    assert "alternatives differ" not in table
+
+
+def test_a_claim_without_controls_says_so_and_shared_notes_are_said_once():
+    assert "*No control:*" in claim_block(_entry([], []))
+    controls = [{"change": name, "kind": "control", "verdict": "not reproduced",
+                 "headline": "x", "note": "it gave the paper's verdict"} for name in "ab"]
+    block = claim_block(_entry([], controls))
+    assert "*No control:*" not in block
+    assert block.count("it gave the paper's verdict") == 1
+    assert "*Controls that did not decide:* a; b: it gave the paper's verdict." in block

@@ -318,7 +318,8 @@ def _judge_stability(outputs):
         seeds = len(next(iter(spread.values()))) if spread else 0
         label = output["data"].split(":")[0]
         return clap > ransac, (f"{label}, {len(pairs)} pairs x {seeds} seeds: the spread of the "
-                               f"Lie distance over seeds is smaller for CLAP on {clap} pairs, "
+                               f"Lie distance over seeds is smaller for CLAP on {clap} "
+                               f"{_pairs(clap)}, "
                                f"for RANSAC on {ransac}"), \
             {"pairs": len(pairs), "seeds": seeds, "CLAP_steadier": clap, "RANSAC_steadier": ransac}
 
@@ -362,7 +363,8 @@ def _judge_evd(outputs):
     verdict = ("reproduced" if recall_ok and lie_ok else
                "partly reproduced" if recall_ok or lie_ok else "not reproduced")
     return verdict, (f"EVD, {len(by)} pairs with {min(ratios):.0%}-{max(ratios):.0%} inliers: "
-                     f"CLAP keeps more labelled inliers on {more} pairs, RANSAC on {fewer} (by "
+                     f"CLAP keeps more labelled inliers on {more} {_pairs(more)}, RANSAC on "
+                     f"{fewer} (by "
                      f"more than {MARGIN:g}); CLAP closer to the ground truth on "
                      f"{lie['closer']}, RANSAC on {lie['farther']} (by more than {CLOSER:g}x)"), \
         {"recall_clap_more": more, "recall_ransac_more": fewer, **lie}
@@ -794,9 +796,16 @@ def judge_variants(claim: Claim, outputs: dict) -> list[dict]:
     return rows
 
 
+def _pairs(n: int) -> str:
+    """``"pair"`` or ``"pairs"`` after the count ``n``."""
+    return "pair" if n == 1 else "pairs"
+
+
 def _depends(verdict: str, rows: list) -> list[str]:
-    """The changes (not controls) under which a verdict reads differently."""
-    return [r["change"] for r in rows if r["kind"] != "control"
+    """The alternatives of the paper's protocol (sensitivity variants: not the package's
+    extensions, which change the setting, nor controls) under which a verdict reads
+    differently."""
+    return [r["change"] for r in rows if r["kind"] == "sensitivity"
             and r["verdict"] not in (verdict, "data unavailable")]
 
 
@@ -906,8 +915,17 @@ def claim_block(entry: dict) -> str:
     alternatives = entry.get("sensitivity", [])
     if entry.get("depends_on"):
         n = len(entry["depends_on"])
-        verdict += (f" {n} of {len(alternatives)} alternatives "
+        total = sum(r.get("kind") == "sensitivity" for r in alternatives)
+        verdict += (f" {n} of {total} alternatives of the protocol "
                     + ("gives" if n == 1 else "give") + " another verdict (the table below).")
+    other = [r for r in alternatives if r.get("kind") == "extension"
+             and r["verdict"] not in (entry["verdict"], "data unavailable")]
+    if other:
+        total = sum(r.get("kind") == "extension" for r in alternatives)
+        verdict += (f" {len(other)} of the package's {total} extensions "
+                    + ("reaches" if len(other) == 1 else "reach") + " another verdict; they "
+                    "change the setting, not the paper's protocol, so they do not change its "
+                    "verdict.")
     lines += [verdict, ""]
     experiments = ", ".join(f"`{e}`" for e in entry.get("experiments", []))
     lines += [f"*Rule* (experiment {experiments}): {entry['rule']}.", "",
@@ -917,9 +935,18 @@ def claim_block(entry: dict) -> str:
     if protocols:
         lines += ["", "*Protocol:* " + " ".join(f"({k}) {p}." if len(protocols) > 1 else f"{p}."
                                                 for k, p in enumerate(protocols, 1))]
+    notes = {}
     for r in entry.get("controls", []):
         if r.get("note"):
-            lines += ["", f"*A control that did not decide:* {r['change']}: {r['note']}."]
+            notes.setdefault(r["note"], []).append(r["change"])
+    for note, changes in notes.items():
+        label = ("*A control that did not decide:*" if len(changes) == 1
+                 else "*Controls that did not decide:*")
+        lines += ["", f"{label} {'; '.join(changes)}: {note}."]
+    if not entry.get("controls") and entry.get("sensitivity") is not None:
+        lines += ["", "*No control:* no perturbed method or data set was run under which this "
+                      "rule must reach the other verdict, so the rule is not seen to be able "
+                      "to."]
     rows = alternatives + entry.get("controls", [])
     if rows:
         lines += ["", f"The alternatives and controls, each judged by the same rule (*{ROW_CLAP}*"

@@ -405,7 +405,8 @@ def claims_markdown(claims, details: bool = True) -> str:
         verdict = f"**{c['verdict']}**"
         if c.get("depends_on"):
             n = len(c["depends_on"])
-            verdict += (f" ({n} of {len(c.get('sensitivity', []))} alternatives "
+            total = sum(r.get("kind") == "sensitivity" for r in c.get("sensitivity", []))
+            verdict += (f" ({n} of {total} alternatives "
                         + ("differs)" if n == 1 else "differ)"))
         lines.append(_row([i, c.get("title") or c["key"], verdict,
                            c.get("headline") or c["measured"]]))
