@@ -10,12 +10,10 @@ from __future__ import annotations
 import re
 
 from clap_unified.reproduce import CLAIMS, chapter_claims, evaluate_claims
-from clap_unified.reproduce.claims import claim_block
+from clap_unified.reproduce.claims import BARE_CLAP, claim_block
 from clap_unified.reproduce.exp_homography import DEVIATIONS, PROTOCOL, VARIANTS
 from clap_unified.reproduce.runner import claims_markdown, verdicts_markdown
 
-#: "CLAP" before a number (or before "/ RANSAC" and numbers) with no qualifier in brackets.
-BARE_CLAP = re.compile(r"\bCLAP\b(?!\s*\()(?=[\s:]*\d| / RANSAC)")
 #: An identifier: lower-case words joined by underscores, the first of at least two
 #: characters (``rates_differ``, ``3d_spurious``; not the paper's ``e_t`` or ``T_init``).
 IDENTIFIER = re.compile(r"(?<![\w`])[a-z0-9]{2,}(?:_[a-z0-9]+)+\b")

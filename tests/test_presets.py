@@ -505,16 +505,9 @@ def test_localization_docstrings_state_the_presets(function, space_name):
     doc = getattr(loc, function).__doc__
     written = _documented_defaults(doc)
     assert len(written) >= 4, written
-    values = {}
-    for strategy in ("clap", "open3d", None):
-        try:
-            p = get_preset(space_name, strategy, task="localize")
-        except ValueError:
-            continue
-        values = {**p.fit, **p.options, **values} if strategy == "clap" else {**values,
-                                                                               **p.fit}
-    values.setdefault("open3d_iterations",
-                      get_preset("pose3d", "open3d", task="localize").fit["n_hypotheses"])
+    clap = get_preset(space_name, "clap", task="localize")
+    values = {**clap.fit, **clap.options, "open3d_iterations":
+              get_preset("pose3d", "open3d", task="localize").fit["n_hypotheses"]}
     for name, text in written.items():
         assert name in values, f"{function} documents ``{name}``, which no preset sets"
         want = values[name]

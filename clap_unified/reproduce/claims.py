@@ -387,7 +387,6 @@ def _halves_2d(n):
 def _judge_2d(outputs):
     n = outputs["localization2d"]["numbers"]
     rates = sorted({k.split("@")[1] for k in n if "@" in k})
-    c = {r: n[f"clap@{r}"] for r in rates}
     robust, no_worse, _, top, _ = _halves_2d(n)
     verdict = ("reproduced" if robust and no_worse else
                "partly reproduced" if robust or no_worse else "not reproduced")
@@ -395,7 +394,7 @@ def _judge_2d(outputs):
                          f"{n[f'ransac@{r}']['ok']:.2f}, Hough "
                          f"{n[f'randomized_hough@{r}']['ok']:.2f}"
                          for r in rates)
-    return verdict, (f"share of {c[top]['n']} frames per rate within 10 cm and 2 deg: "
+    return verdict, (f"share of {n[f'clap@{top}']['n']} frames per rate within 10 cm and 2 deg: "
                      + measured), _rate_table(n, ("clap", "ransac", "randomized_hough"), rates)
 
 
