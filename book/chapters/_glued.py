@@ -50,3 +50,27 @@ def glue(name: str, value, display: bool = True) -> None:
     """myst-nb's ``glue``, for the names a page cites (a displayed value always)."""
     if display or name in CITED:
         _myst_glue(name, value, display=display)
+
+
+def keeper(prefix: str = ""):
+    """A ``keep(name, value, digits=None)`` that glues numbers under ``prefix``.
+
+    The chapters glue many numbers for their prose; each is rounded as the chapter's tables
+    print it (``digits`` decimals, or an integer when ``digits`` is None), without a ``-0.0``,
+    and glued without display under ``prefix + name``.
+
+    Examples
+    --------
+    >>> keep = keeper("c3_")
+    >>> callable(keep)
+    True
+    """
+
+    def keep(name: str, value, digits: int | None = None) -> None:
+        if digits is None:
+            value = int(round(float(value)))
+        else:
+            value = round(float(value), digits) + 0.0  # no -0.0
+        glue(f"{prefix}{name}", value, display=False)
+
+    return keep
