@@ -5,7 +5,12 @@
 * a cell prints one block of output, not several (a loop prints its lines at once);
 * every exercise has a worked solution: a folded cell (``hide-cell``) opening with the
   exercise's number, executed (it has output), whose output ends on a sentence;
-* no words about how the page was made (the machine that built it, what "we tried").
+* no words about how the page was made (the machine that built it, what "we tried"), no
+  pointer to the repository's scripts (``bench/...``), which a reader of the book has not;
+* one name per algorithm: never "default CLAP" or "CLAP (library default)" (the library's is
+  "CLAP (the library's)"), never a synthetic pair's code name ("r=0.08 decoy=0.04") shown;
+* no printed line wider than 88 characters (a cell whose output is folded by ``hide-output``,
+  the library's own source, is exempt).
 """
 
 from __future__ import annotations
@@ -22,6 +27,9 @@ BOOKKEEPING = re.compile(r"^\s*(glue|keep)\(", flags=re.MULTILINE)
 SELF_TALK = re.compile(r"\bwe tried\b|\bmachine that built\b|\bglued for\b|\bcrippled\b|"
                        r"\ban earlier version\b|\bthis book was built\b", flags=re.IGNORECASE)
 EXERCISE = re.compile(r"^(\d+)\. ", flags=re.MULTILINE)
+REPOSITORY = re.compile(r"\bbench/\w+\.py|\(see the README\)|ARCHITECTURE\.md")
+NAMING = re.compile(r"\bdefault CLAP\b|CLAP \(library default\)|\br=0\.\d+ decoy=0")
+WIDTH = 88
 
 
 def _text(value) -> str:
@@ -37,6 +45,15 @@ def _stdout(cell) -> str:
                    if o["output_type"] == "stream" and o.get("name") == "stdout")
 
 
+def _shown(cell) -> str:
+    """What a code cell shows: its printed text, its Markdown and plain-text results."""
+    parts = [_stdout(cell)]
+    for o in cell.get("outputs", []):
+        data = o.get("data", {})
+        parts += [_text(data[k]) for k in ("text/markdown", "text/plain") if k in data]
+    return "\n".join(parts)
+
+
 def page_defects(notebook: dict) -> list[str]:
     """What keeps one of these chapters (parsed JSON) from reading as a textbook page."""
     defects = []
@@ -46,8 +63,16 @@ def page_defects(notebook: dict) -> list[str]:
         if cell["cell_type"] == "markdown":
             text = _text(cell["source"])
             defects += [f"{where}: {m.group(0)!r}" for m in SELF_TALK.finditer(text)]
+            defects += [f"{where}: {m.group(0)!r}" for m in REPOSITORY.finditer(text)]
+            defects += [f"{where}: name {m.group(0)!r}" for m in NAMING.finditer(text)]
             continue
         tags = _tags(cell)
+        shown = _shown(cell)
+        defects += [f"{where}: output {m.group(0)!r}" for m in REPOSITORY.finditer(shown)]
+        defects += [f"{where}: name {m.group(0)!r}" for m in NAMING.finditer(shown)]
+        if "hide-output" not in tags:
+            wide = [line for line in _stdout(cell).splitlines() if len(line) > WIDTH]
+            defects += [f"{where}: a printed line of {len(line)} characters" for line in wide]
         if "hide-input" in tags and BOOKKEEPING.search(_text(cell["source"])):
             defects.append(f"{where}: glue bookkeeping in a folded, viewable cell")
         streams = [o for o in cell.get("outputs", []) if o["output_type"] == "stream"
@@ -106,10 +131,19 @@ def test_the_checks_catch_each_defect():
         _cell("markdown", "## Exercises\n\n1. One?\n2. Two?\n3. Three?"),
         _cell("code", "# 1. one\nprint('one')", tags=["hide-cell"], outputs=["one\n"]),
         _cell("code", "# 2. two", tags=["hide-cell"]),
+        _cell("markdown", "As `python bench/bench_budget.py` shows, the default CLAP wins."),
+        _cell("code", "print(name)", outputs=["synthetic r=0.08 decoy=0.04 #1\n"]),
+        _cell("code", "print(wide)", outputs=["x" * 89 + "\n"]),
+        _cell("code", "print(source)", tags=["hide-output"], outputs=["x" * 89 + "\n"]),
     ]}
     defects = page_defects(notebook)
     assert [d.split(":")[0] for d in defects] == [
-        "cell 0", "cell 1", "cell 2", "exercise 1", "exercise 2", "exercise 3"], defects
+        "cell 0", "cell 1", "cell 2", "cell 6", "cell 6", "cell 7", "cell 8",
+        "exercise 1", "exercise 2", "exercise 3"], defects
+    assert "bench/bench_budget.py" in defects[3] and "default CLAP" in defects[4]
+    assert "r=0.08 decoy=0" in defects[5] and "89 characters" in defects[6]
+    defects = [d for d in defects if not d.startswith("cell 6")
+               and not d.startswith("cell 7") and not d.startswith("cell 8")]
     assert "we tried" in defects[0]
     assert "bookkeeping" in defects[1]
     assert "2 blocks" in defects[2]
