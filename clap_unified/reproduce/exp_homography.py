@@ -463,7 +463,7 @@ def figures_lie(output: dict, prefix: str) -> dict:
     figs[f"{prefix}_lie_per_scene"] = fig
     mosaics = output.get("artifacts", {}).get("mosaics", {})
     if mosaics:
-        figs[f"{prefix}_mosaics"] = _mosaic_overview(mosaics, f"CLAP mosaics ({source})")
+        figs[f"{prefix}_mosaics"] = _mosaic_overview(mosaics, f"CLAP (paper) mosaics ({source})")
     return figs
 
 
@@ -727,7 +727,7 @@ def figures_stitching_real(output: dict) -> dict:
     figs = {"real_sre_cdf": fig}
     mosaics = output.get("artifacts", {}).get("mosaics", {})
     if mosaics:
-        figs["real_mosaics"] = _mosaic_overview(mosaics, f"CLAP mosaics ({source})")
+        figs["real_mosaics"] = _mosaic_overview(mosaics, f"CLAP (paper) mosaics ({source})")
     return figs
 
 
