@@ -247,3 +247,59 @@ def test_anecdotes_and_bare_claps_are_caught():
     assert BARE_CLAP_NUMBER.search("at 80 %: CLAP {glue:text}`c4`")
     assert not BARE_CLAP_NUMBER.search("{glue:text}`x` for CLAP (paper); CLAP (paper) "
                                        "{glue:text}`y`")
+
+
+#: The chapters whose pages meet the narrower rules of the second read (issue 28): output
+#: lines of at most :data:`NARROW_OUTPUT` characters, no bare "CLAP" beside a number in the
+#: text or a caption, and no pointer to the repository's files (a reader has the book, not
+#: the repository's bench scripts, README or ARCHITECTURE.md).
+NARROW_CHAPTERS = ("01_one_abstraction", "02_line_fitting", "03_localization_2d",
+                   "04_localization_3d")
+NARROW_OUTPUT = 88
+REPOSITORY_FILES = re.compile(r"\bbench/|\bbench_\w+\.py|ARCHITECTURE\.md|\bREADME\b")
+
+
+def narrow_defects(notebook: dict) -> list[str]:
+    """Where one notebook breaks the narrower rules of :data:`NARROW_CHAPTERS`."""
+    defects = []
+    for index, cell in enumerate(notebook["cells"]):
+        where = f"cell {index}"
+        if cell["cell_type"] == "markdown":
+            text = _text(cell["source"])
+        else:
+            text = json.dumps(cell.get("metadata", {}).get("mystnb", {}))  # the caption
+        defects += [f"{where}: bare CLAP beside a number: {m!r}"
+                    for m in BARE_CLAP_NUMBER.findall(text)]
+        defects += [f"{where}: names a repository file: {m!r}"
+                    for m in REPOSITORY_FILES.findall(text)]
+        for output in cell.get("outputs", []):
+            if output["output_type"] == "stream":
+                lines = _text(output["text"]).splitlines()
+            elif "text/plain" in output.get("data", {}) and len(output["data"]) == 1:
+                lines = _text(output["data"]["text/plain"]).splitlines()
+            else:
+                continue
+            defects += [f"{where}: an output line of {len(line)} characters: {line[:50]!r}"
+                        for line in lines if len(line) > NARROW_OUTPUT]
+    return defects
+
+
+@pytest.mark.parametrize("stem", NARROW_CHAPTERS)
+def test_first_chapters_are_narrow_and_name_each_clap(stem):
+    notebook = json.loads((BOOK / f"{stem}.ipynb").read_text(encoding="utf-8"))
+    defects = narrow_defects(notebook)
+    assert not defects, f"{stem}:\n" + "\n".join(defects)
+
+
+def test_narrow_defects_are_caught():
+    wide = {"output_type": "stream", "name": "stdout", "text": "x" * 89 + "\n"}
+    nb = {"cells": [_markdown("at 80 % CLAP {glue:text}`c4_x` of the frames; see "
+                              "`bench/bench_lines.py` and ARCHITECTURE.md"),
+                    _cell("print()", [wide])]}
+    defects = narrow_defects(nb)
+    assert [d.split(": ")[1] for d in defects] == [
+        "bare CLAP beside a number", "names a repository file", "names a repository file",
+        "names a repository file", "an output line of 89 characters"], defects
+    fine = {"cells": [_markdown("CLAP (paper) {glue:text}`x`; the library's bench"),
+                      _cell("print()", [{**wide, "text": "x" * 88}])]}
+    assert narrow_defects(fine) == []
