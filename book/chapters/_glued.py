@@ -74,3 +74,19 @@ def keeper(prefix: str = ""):
         glue(f"{prefix}{name}", value, display=False)
 
     return keep
+
+
+def about(ratio: float):
+    """A ratio of two times measured in one run, to the one significant figure it supports.
+
+    Times taken on a shared machine vary by tens of percent from run to run (a ratio of 66 in
+    one run of a page was 120 in another), so a page quotes such a ratio to one figure: an
+    ``int`` from 1 up, a ``float`` below.
+
+    Examples
+    --------
+    >>> about(118.0), about(66.0), about(1.4), about(0.034)
+    (100, 70, 1, 0.03)
+    """
+    value = float(f"{float(ratio):.1g}")
+    return int(value) if value >= 1 else value
