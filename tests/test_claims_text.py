@@ -219,3 +219,55 @@ def test_a_claim_without_controls_says_so_and_shared_notes_are_said_once():
     assert "*No control:*" not in block
     assert block.count("it gave the paper's verdict") == 1
     assert "*Controls that did not decide:* a; b: it gave the paper's verdict." in block
+
+
+def test_every_alternative_and_control_has_a_name_in_words():
+    from clap_unified.reproduce import EXPERIMENTS, describe_variant
+    from clap_unified.reproduce.exp_localization import VARIANTS_2D
+    from clap_unified.reproduce.exp_multimodel import ABLATION
+
+    keys = {"stitching_stable": [v.key for v in VARIANTS],
+            "2d_outliers": [*VARIANTS_2D, "control_budget", "control_asymmetric"],
+            "several_answers": ["library_clap", *(f"ablation: {a}" for a in ABLATION)]}
+    p3 = EXPERIMENTS["localization3d"].params(False)
+    keys["3d_outliers"] = [
+        "bandwidth_half", "bandwidth_double", "min_support_half", "min_support_double",
+        "consensus", "other_mode", "lab_map", "control_silent", "control_ungated",
+        *(f"budget_{b}" for b in p3["budgets"]),
+        *(f"correspondences_{b}" for b in p3["correspondence_budgets"])]
+    for claim, variants in keys.items():
+        for key in variants:
+            name = describe_variant(claim, key)
+            assert name and not _identifiers(name), (claim, key, name)
+            assert key not in name
+    # one key, two changes: the claim (or experiment) says which
+    assert describe_variant("3d_outliers", "bandwidth_double") != describe_variant(
+        "vpg_lie", "bandwidth_double")
+    assert describe_variant("localization3d", "budget_300") == describe_variant(
+        "3d_spurious", "budget_300")
+    for bad, arg in ((("no_claim", "polish_both"), "claim"), (("vpg_lie", "no_such"), "variant")):
+        try:
+            describe_variant(*bad)
+        except ValueError as exc:
+            assert str(exc).startswith(arg + ":")
+        else:
+            raise AssertionError(f"{bad} was accepted")
+
+
+def test_the_variants_of_the_cached_reproduction_all_have_names():
+    """Every variant of the reproduction the book reads (when it is here) has a name."""
+    import json
+    from pathlib import Path
+
+    import pytest
+
+    from clap_unified.reproduce import describe_variant
+
+    path = Path(__file__).resolve().parents[1] / "book/_build/reproduction/claims.json"
+    if not path.exists():
+        pytest.skip("no cached reproduction")
+    claims = json.loads(path.read_text())["claims"]
+    rows = [(c["key"], r["key"]) for c in claims for r in c["sensitivity"] + c["controls"]]
+    assert rows
+    for claim, key in rows:
+        assert describe_variant(claim, key)

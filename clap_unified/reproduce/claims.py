@@ -15,10 +15,9 @@ import re
 from collections.abc import Callable
 from dataclasses import dataclass
 
-__all__ = ["CLAIMS", "MARGIN", "VARIANT_KINDS", "VERDICTS", "WHY", "Claim", "chapter_claims",
-           "claim_block", "deviation", "evaluate_claims", "judge_variants", "rates_differ",
-           "verdict_lines",
-           "wilson_lower"]
+__all__ = ["CLAIMS", "MARGIN", "VARIANT_KINDS", "VARIANT_NAMES", "VERDICTS", "WHY", "Claim",
+           "chapter_claims", "claim_block", "describe_variant", "deviation", "evaluate_claims",
+           "judge_variants", "rates_differ", "verdict_lines", "wilson_lower"]
 
 #: The four verdicts a claim can get, from best to no data.
 VERDICTS = ("reproduced", "partly reproduced", "not reproduced", "data unavailable")
@@ -583,6 +582,114 @@ CLAIMS = [
 ]
 
 
+#: Per family of experiments, each alternative's and control's short name in words, for a
+#: table's row label (its ``change``, the run's label, says it in full). The same key can
+#: name different changes in different families (``bandwidth_double``: CLAP's bandwidth in
+#: localization, the densest cluster's bandwidth quantile in the homography experiments).
+VARIANT_NAMES = {
+    "localization3d": {
+        "bandwidth_half": "CLAP's bandwidth halved",
+        "bandwidth_double": "CLAP's bandwidth doubled",
+        "min_support_half": "CLAP's minimum support halved",
+        "min_support_double": "CLAP's minimum support doubled",
+        "consensus": "CLAP answers with the cluster that best explains the detections",
+        "other_mode": "both methods in the other mode (global: no gate)",
+        "budget_all": "every triplet, for both methods",
+        "lab_map": "an asymmetric lab map (no mirror image)",
+        "control_silent": "a CLAP that never answers",
+        "control_ungated": "CLAP without the gate, RANSAC with it",
+    },
+    "localization2d": {
+        "bandwidth_half": "CLAP's bandwidth halved",
+        "bandwidth_double": "CLAP's bandwidth doubled",
+        "min_support_double": "CLAP's minimum support doubled",
+        "control_budget": "in CLAP's place, RANSAC scoring a few random candidates",
+        "control_asymmetric": "a field without the mirror symmetry",
+    },
+    "homography": {
+        "polish_both": "both methods polished (reweighted DLT)",
+        "polish_clap_only": "CLAP alone polished (reweighted DLT)",
+        "clap_densest": "CLAP by another reading of the paper's words",
+        "lie_linear": "CLAP clustering by the first-order distance",
+        "lie_exact": "CLAP clustering by the exact logarithm for every pair",
+        "trim_in_cluster": "CLAP trimming inside the densest cluster",
+        "bandwidth_half": "trimming inside the densest cluster, bandwidth halved",
+        "bandwidth_double": "trimming inside the densest cluster, bandwidth doubled",
+        "min_support_half": "trimming inside the densest cluster, minimum support halved",
+        "min_support_double": "trimming inside the densest cluster, minimum support doubled",
+        "equal_budget_400": "RANSAC with CLAP's candidate count",
+        "equal_budget_1000": "CLAP with RANSAC's iteration count",
+        "ransac_10": "a RANSAC with very few iterations",
+        "ransac_no_refit": "RANSAC without the refit on its inliers",
+        "extra_outliers": "random matches added, as many as each pair has",
+    },
+    "multimodel": {
+        "library_clap": "the library's multi-model CLAP",
+    },
+}
+#: The family of :data:`VARIANT_NAMES` each experiment's variants belong to.
+_VARIANT_FAMILY = {"localization3d": "localization3d", "localization2d": "localization2d",
+                   "homography_synthetic": "homography", "homography_vpg": "homography",
+                   "homography_homogr": "homography", "homography_evd": "homography",
+                   "stitching_real": "homography", "multimodel_adelaidermf": "multimodel"}
+#: Variant keys with a number in them (budgets set by the run's parameters): a pattern and
+#: the name it gives.
+_VARIANT_PATTERNS = {
+    "localization3d": ((re.compile(r"budget_(\d+)"), "{0} triplets, for both methods"),
+                       (re.compile(r"correspondences_(\d+)"),
+                        "a front end's correspondences, {0} triplets")),
+    "multimodel": ((re.compile(r"ablation: (.+)"), "the library's CLAP with {0}"),),
+}
+
+
+def describe_variant(claim: str, variant: str) -> str:
+    """The short name in words of an alternative or control, for a table's row label.
+
+    Parameters
+    ----------
+    claim : str
+        A claim's key (:data:`CLAIMS`) or an experiment's name (``"localization3d"``): the
+        same variant key can name different changes in different experiments.
+    variant : str
+        The variant's key, as the experiment's output ``variants`` holds it.
+
+    Returns
+    -------
+    str
+        A few words (the run's ``label`` says the change in full).
+
+    Raises
+    ------
+    ValueError
+        When ``claim`` names no claim or experiment, or ``variant`` no variant of it.
+
+    Examples
+    --------
+    >>> describe_variant("3d_outliers", "bandwidth_double")
+    "CLAP's bandwidth doubled"
+    >>> describe_variant("stitching_stable", "bandwidth_double")
+    'trimming inside the densest cluster, bandwidth doubled'
+    >>> describe_variant("localization3d", "budget_300")
+    '300 triplets, for both methods'
+    """
+    experiments = next((c.experiments for c in CLAIMS if c.key == claim), None)
+    if experiments is None and claim in _VARIANT_FAMILY:
+        experiments = (claim,)
+    if experiments is None:
+        raise ValueError(f"claim: expected a claim's key ({', '.join(c.key for c in CLAIMS)}) "
+                         f"or an experiment's name ({', '.join(_VARIANT_FAMILY)}), "
+                         f"got {claim!r}")
+    families = dict.fromkeys(_VARIANT_FAMILY[e] for e in experiments if e in _VARIANT_FAMILY)
+    for family in families:
+        if variant in VARIANT_NAMES[family]:
+            return VARIANT_NAMES[family][variant]
+        for pattern, name in _VARIANT_PATTERNS.get(family, ()):
+            m = pattern.fullmatch(str(variant))
+            if m:
+                return name.format(*m.groups())
+    raise ValueError(f"variant: no variant {variant!r} of {claim!r}")
+
+
 def _at_highest_ratio(numbers, methods, what):
     """``what`` of ``methods`` at the highest outlier ratio of a localization table."""
     top = max(_high_ratios(numbers) or [k.split("@")[1] for k in numbers if "@" in k])
@@ -750,8 +857,9 @@ def judge_variants(claim: Claim, outputs: dict) -> list[dict]:
     Returns
     -------
     list of dict
-        ``{"key", "change", "kind", "verdict", "measured", "headline"}`` (the
-        headline: the number that carries the verdict, CLAP named
+        ``{"key", "name", "change", "kind", "verdict", "measured", "headline"}``
+        (``name``: :func:`describe_variant`, a few words; ``change``: the run's label,
+        in full; the headline: the number that carries the verdict, CLAP named
         "CLAP (this row)"), in the order the experiments list them.
 
     Examples
@@ -789,7 +897,12 @@ def judge_variants(claim: Claim, outputs: dict) -> list[dict]:
             line = headline(numbers) if headline and numbers else measured
         except (KeyError, ValueError):  # the variant lacks what the headline reads
             line = measured
-        rows.append({"key": key, "change": first["label"], "kind": kind, "verdict": verdict,
+        try:
+            name = describe_variant(claim.key, key)
+        except ValueError:  # a variant without a short name: its label says it
+            name = first["label"]
+        rows.append({"key": key, "name": name, "change": first["label"], "kind": kind,
+                     "verdict": verdict,
                      "measured": _qualify(measured, ROW_CLAP),
                      "headline": _qualify(line, ROW_CLAP)})
     return rows
