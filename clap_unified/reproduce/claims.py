@@ -884,7 +884,7 @@ def judge_variants(claim: Claim, outputs: dict) -> list[dict]:
         (``name``: :func:`describe_variant`, a few words; ``change``: the run's label,
         in full; ``seeds``: the seeds a stability rule read, "" for the other rules; the
         headline: the number that carries the verdict, CLAP named "CLAP (this row)", in
-        the words of :data:`ROW_HEADLINES` when the claim has them), in the order the
+        the words of ``ROW_HEADLINES`` when the claim has them), in the order the
         experiments list them.
 
     Examples
