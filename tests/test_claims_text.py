@@ -207,7 +207,7 @@ def test_extensions_are_counted_apart_from_the_alternatives():
     block = claim_block(_entry(ext + sens, []))
     # the block names the alternatives the verdict depends on, in the intro's words
     assert ("The verdict depends on 1 of the 2 alternatives of the protocol (the table "
-            "below): a budget: reproduced.") in block
+            "below): reproduced under a budget.") in block
     assert "3 of the package's 3 extensions reach another verdict" in block
     table = claims_markdown([{**_entry(ext, []), "key": "k", "title": "t"}], details=False)
     assert "alternatives differ" not in table

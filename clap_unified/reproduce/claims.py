@@ -594,7 +594,7 @@ VARIANT_NAMES = {
         "min_support_double": "CLAP's minimum support doubled",
         "consensus": "CLAP answers with the cluster that best explains the detections",
         "other_mode": "both methods in the other mode (global: no gate)",
-        "budget_all": "every triplet, for both methods",
+        "budget_all": "every triplet for both methods",
         "lab_map": "an asymmetric lab map (no mirror image)",
         "control_silent": "a CLAP that never answers",
         "control_ungated": "CLAP without the gate, RANSAC with it",
@@ -635,7 +635,7 @@ _VARIANT_FAMILY = {"localization3d": "localization3d", "localization2d": "locali
 #: Variant keys with a number in them (budgets set by the run's parameters): a pattern and
 #: the name it gives.
 _VARIANT_PATTERNS = {
-    "localization3d": ((re.compile(r"budget_(\d+)"), "{0} triplets, for both methods"),
+    "localization3d": ((re.compile(r"budget_(\d+)"), "{0} triplets for both methods"),
                        (re.compile(r"correspondences_(\d+)"),
                         "a front end's correspondences, {0} triplets")),
     "multimodel": ((re.compile(r"ablation: (.+)"), "the library's CLAP with {0}"),),
@@ -670,7 +670,7 @@ def describe_variant(claim: str, variant: str) -> str:
     >>> describe_variant("stitching_stable", "bandwidth_double")
     'trimming inside the densest cluster, bandwidth doubled'
     >>> describe_variant("localization3d", "budget_300")
-    '300 triplets, for both methods'
+    '300 triplets for both methods'
     """
     experiments = next((c.experiments for c in CLAIMS if c.key == claim), None)
     if experiments is None and claim in _VARIANT_FAMILY:
@@ -1084,10 +1084,14 @@ def claim_block(entry: dict, shown: dict | None = None, ref: str = "") -> str:
         flips = [r for r in alternatives if r.get("kind") == "sensitivity"
                  and r["change"] in entry["depends_on"]]
         total = sum(r.get("kind") == "sensitivity" for r in alternatives)
+        by_verdict = {}
+        for r in flips:
+            by_verdict.setdefault(r["verdict"], []).append(r.get("name") or r["change"])
         verdict += (f" The verdict depends on {len(flips)} of the {total} alternatives of the "
                     f"protocol (the table below): "
-                    + "; ".join(f"{r.get('name') or r['change']}: {r['verdict']}"
-                                for r in flips) + ".")
+                    + "; ".join(f"{v} under {'; '.join(names)}" if len(names) == 1 else
+                                f"{v} under each of: {'; '.join(names)}"
+                                for v, names in by_verdict.items()) + ".")
     other = [r for r in alternatives if r.get("kind") == "extension"
              and r["verdict"] not in (entry["verdict"], "data unavailable")]
     if other:
