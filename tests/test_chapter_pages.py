@@ -303,3 +303,77 @@ def test_narrow_defects_are_caught():
     fine = {"cells": [_markdown("CLAP (paper) {glue:text}`x`; the library's bench"),
                       _cell("print()", [{**wide, "text": "x" * 88}])]}
     assert narrow_defects(fine) == []
+
+#: A role of the glossary: {term}`text <target>` or {term}`target`.
+TERM_ROLE = re.compile(r"\{term\}`(?:[^`<]*<([^`>]+)>|([^`]+))`")
+
+
+def _glossary_terms() -> list[str]:
+    """The glossary's terms, each name of an entry (``sensitivity, control``: two names)."""
+    text = (BOOK.parent / "glossary.md").read_text(encoding="utf-8")
+    body = text.split("```{glossary}")[1].split("```")[0]
+    return [line for line in body.splitlines() if line and not line.startswith(" ")]
+
+
+def _unlinked_first_uses(text: str, terms: list[str]) -> list[str]:
+    """The glossary terms whose first use in ``text``'s prose comes before any link to them.
+
+    Code cells and blocks, inline code, glue roles, link targets and headings are not prose;
+    a term inside a role is replaced by a marker of its entry, so that "CLAP" is not found
+    inside a linked "CLAP (paper)".
+    """
+    prose = re.sub(r"```.*?```", "", text, flags=re.DOTALL)
+    prose = re.sub(r"^#.*$", "", prose, flags=re.MULTILINE)
+    prose = re.sub(r"\{glue(?::\w*)?\}`[^`]*`", "", prose)
+    prose = re.sub(r"\]\([^)]*\)", "]", prose)
+    links = {}
+
+    def mark(m):
+        entry = m.group(1) or m.group(2)
+        links.setdefault(entry, m.start())
+        return "\x00" * len(m.group(0))
+
+    prose = TERM_ROLE.sub(mark, prose)
+    prose = re.sub(r"`[^`]*`", lambda m: " " * len(m.group(0)), prose)  # positions kept
+    missing = []
+    for entry in terms:
+        for name in (n.strip() for n in entry.split(",")):
+            use = re.search(r"(?<![\w-])" + re.escape(name) + r"(?:s|es)?(?![\w-])", prose)
+            if use and links.get(entry, len(prose)) > use.start():
+                missing.append(name)
+    return missing
+
+
+def test_the_front_pages_link_every_glossary_term_at_its_first_use():
+    terms = _glossary_terms()
+    assert "Wilson interval" in terms and "sensitivity, control" in terms
+    for name in FRONT_PAGES:
+        text = (BOOK.parent / name).read_text(encoding="utf-8")
+        assert not _unlinked_first_uses(text, terms), (name, _unlinked_first_uses(text, terms))
+        for m in TERM_ROLE.finditer(text):  # every role names an entry
+            assert (m.group(1) or m.group(2)) in terms, m.group(0)
+
+
+def test_an_unlinked_first_use_is_caught():
+    terms = ["Lie distance", "CLAP", "CLAP (paper)", "sensitivity, control"]
+    assert _unlinked_first_uses("the Lie distance, then {term}`Lie distance`", terms) == [
+        "Lie distance"]
+    assert _unlinked_first_uses("{term}`CLAP (paper)` and `CLAP` in code", terms) == []
+    assert _unlinked_first_uses("`a` `b` {term}`CLAP` then CLAP", terms) == []
+    assert _unlinked_first_uses("two controls, then {term}`control <sensitivity, control>`",
+                                terms) == ["control"]
+
+
+#: The decision guide and the front page speak to the reader about the subject: no pointers to
+#: the repository's files (a reader of the book has no README or bench folder), no "the
+#: project", and no typed wall-clock time (a time is glued, or a ratio measured in one run).
+SELF_TALK = re.compile(r"\bREADME\b|\bbench/|\bthe project\b|\d\s*ms\b", flags=re.IGNORECASE)
+
+
+def test_the_front_pages_talk_about_the_subject():
+    for name in FRONT_PAGES:
+        text = (BOOK.parent / name).read_text(encoding="utf-8")
+        prose = re.sub(r"```.*?```", "", text, flags=re.DOTALL)
+        assert not SELF_TALK.findall(prose), (name, SELF_TALK.findall(prose))
+        glued_ms = re.findall(r"\{glue(?::\w*)?\}`[^`]*`\s*ms\b", prose)
+        assert not glued_ms, (name, glued_ms)

@@ -106,13 +106,13 @@ def test_a_control_that_does_not_reach_the_other_verdict_says_so():
     assert "would have needed CLAP's share of correct frames above RANSAC's" in control["note"]
     block = claim_block(c)
     assert "A control that did not decide:" in block and control["note"] in block
-    assert "(did not move)" in verdicts_markdown([c])
+    assert "(did not decide)" in verdicts_markdown([c])
     # the same control under a reproduced protocol reaches "not reproduced": nothing to say
     c = _claim(evaluate_claims(_outputs_3d(0.95, 0.6, 0.0)), "3d_outliers")
     assert c["verdict"] == "reproduced"
     assert c["controls"][0]["reaches"] == "yes" and c["controls"][0]["note"] == ""
     assert "did not decide" not in claim_block(c)
-    assert "(did not move)" not in verdicts_markdown([c])
+    assert "(did not decide)" not in verdicts_markdown([c])
 
 
 def test_a_control_that_moves_only_to_partly_says_so():
@@ -205,7 +205,9 @@ def test_extensions_are_counted_apart_from_the_alternatives():
     assert _depends("not reproduced", ext) == []
     assert _depends("not reproduced", ext + sens) == ["a budget"]
     block = claim_block(_entry(ext + sens, []))
-    assert "1 of 2 alternatives of the protocol gives another verdict" in block
+    # the block names the alternatives the verdict depends on, in the intro's words
+    assert ("The verdict depends on 1 of the 2 alternatives of the protocol (the table "
+            "below): reproduced under a budget.") in block
     assert "3 of the package's 3 extensions reach another verdict" in block
     table = claims_markdown([{**_entry(ext, []), "key": "k", "title": "t"}], details=False)
     assert "alternatives differ" not in table
@@ -219,3 +221,109 @@ def test_a_claim_without_controls_says_so_and_shared_notes_are_said_once():
     assert "*No control:*" not in block
     assert block.count("it gave the paper's verdict") == 1
     assert "*Controls that did not decide:* a; b: it gave the paper's verdict." in block
+
+
+def test_every_alternative_and_control_has_a_name_in_words():
+    from clap_unified.reproduce import EXPERIMENTS, describe_variant
+    from clap_unified.reproduce.exp_localization import VARIANTS_2D
+    from clap_unified.reproduce.exp_multimodel import ABLATION
+
+    keys = {"stitching_stable": [v.key for v in VARIANTS],
+            "2d_outliers": [*VARIANTS_2D, "control_budget", "control_asymmetric"],
+            "several_answers": ["library_clap", *(f"ablation: {a}" for a in ABLATION)]}
+    p3 = EXPERIMENTS["localization3d"].params(False)
+    keys["3d_outliers"] = [
+        "bandwidth_half", "bandwidth_double", "min_support_half", "min_support_double",
+        "consensus", "other_mode", "lab_map", "control_silent", "control_ungated",
+        *(f"budget_{b}" for b in p3["budgets"]),
+        *(f"correspondences_{b}" for b in p3["correspondence_budgets"])]
+    for claim, variants in keys.items():
+        for key in variants:
+            name = describe_variant(claim, key)
+            assert name and not _identifiers(name), (claim, key, name)
+            assert key not in name
+    # one key, two changes: the claim (or experiment) says which
+    assert describe_variant("3d_outliers", "bandwidth_double") != describe_variant(
+        "vpg_lie", "bandwidth_double")
+    assert describe_variant("localization3d", "budget_300") == describe_variant(
+        "3d_spurious", "budget_300")
+    for bad, arg in ((("no_claim", "polish_both"), "claim"), (("vpg_lie", "no_such"), "variant")):
+        try:
+            describe_variant(*bad)
+        except ValueError as exc:
+            assert str(exc).startswith(arg + ":")
+        else:
+            raise AssertionError(f"{bad} was accepted")
+
+
+def test_the_variants_of_the_cached_reproduction_all_have_names():
+    """Every variant of the reproduction the book reads (when it is here) has a name."""
+    import json
+    from pathlib import Path
+
+    import pytest
+
+    from clap_unified.reproduce import describe_variant
+
+    path = Path(__file__).resolve().parents[1] / "book/_build/reproduction/claims.json"
+    if not path.exists():
+        pytest.skip("no cached reproduction")
+    claims = json.loads(path.read_text())["claims"]
+    rows = [(c["key"], r["key"]) for c in claims for r in c["sensitivity"] + c["controls"]]
+    assert rows
+    for claim, key in rows:
+        assert describe_variant(claim, key)
+
+
+def _homogr(seeds=5, variant_seeds=3):
+    """A hand-made homogr output: 3 pairs, CLAP's distance steadier on one, a variant run
+    over fewer seeds (its label carries the experiment's seeds note)."""
+    def stab(n):
+        return [{"pair": p, "method": m, "lie": 1.0 + (0.1 * j if m == "RANSAC" or p else 0)}
+                for p in range(3) for m in ("CLAP", "RANSAC") for j in range(n)]
+    lie = [{"pair": p, "method": m, "lie": 1.0 if m == "CLAP" else 2.0, "recall": 0.5}
+           for p in range(3) for m in ("CLAP", "RANSAC")]
+    shared = {"paper": "400 candidates", "here": "as the paper", "why": "a choice: the paper's"}
+    return {"homography_homogr": {
+        "data": "homogr: toy pairs", "protocol": "the paper's, as written",
+        "deviations": [shared], "numbers": {}, "tables": {"lie": lie, "stability": stab(seeds)},
+        "variants": {"polish_both": {
+            "label": f"both polished (stability over {variant_seeds} seeds, the primary's "
+                     f"over {seeds})", "kind": "sensitivity", "numbers": {},
+            "tables": {"lie": lie, "stability": stab(variant_seeds)}}}}}
+
+
+def test_seeds_are_said_once_and_only_where_the_rule_reads_them():
+    claims = evaluate_claims(_homogr())
+    page = chapter_claims("05_homographies", claims)
+    assert "stability over" not in page  # the experiment's note is not repeated per row
+    lie, stable = _claim(claims, "vpg_lie"), _claim(claims, "stitching_stable")
+    assert stable["seeds"] == "5" and lie["seeds"] == ""
+    assert [r["seeds"] for r in stable["sensitivity"]] == ["3"]
+    assert page.count("seeds (the protocol: 5)") == 1  # one column, in the stability claim
+    assert "| both polished | sensitivity |" in page
+    assert "over 5 seeds" in stable["headline"] and "1.1x" in stable["headline"]
+
+
+def test_shared_deviations_are_listed_once_per_page():
+    claims = evaluate_claims(_homogr())
+    shared = "| 400 candidates | as the paper | a choice: the paper's |"
+    page = chapter_claims("05_homographies", claims)
+    assert page.count(shared) == 1
+    assert ("*Deviations from the paper:* as for *Homographies: CLAP closer to the ground "
+            "truth* above, and:") in page
+    front = claims_markdown(claims)
+    assert front.count(shared) == 1 and "as for claim 3 above, and:" in front
+    # a block alone lists them all
+    assert shared in claim_block(_claim(claims, "stitching_stable"))
+
+
+def test_blocks_and_decision_guide_name_a_control_that_did_not_decide_alike():
+    claims = evaluate_claims({**_outputs_2d((0.9, 0.9, 0.9), (0.5, 0.5, 0.5), (0.9,) * 3)})
+    c = _claim(claims, "2d_outliers")
+    assert c["controls"][0]["reaches"] == "no"
+    assert "*A control that did not decide:*" in claim_block(c)
+    assert "(did not decide)" in verdicts_markdown([c])
+    from pathlib import Path
+    guide = (Path(__file__).resolve().parents[1] / "book/choosing.md").read_text()
+    assert '"did not decide"' in guide and "did not move" not in guide

@@ -7,10 +7,19 @@ tables and the figures into ``DIR`` (:func:`reproduce`).
 """
 
 from . import exp_homography, exp_localization, exp_multimodel  # noqa: F401  (the experiments)
-from .claims import CLAIMS, VERDICTS, chapter_claims, claim_block, evaluate_claims, verdict_lines
+from .claims import (
+    CLAIMS,
+    VERDICTS,
+    chapter_claims,
+    claim_block,
+    describe_variant,
+    evaluate_claims,
+    verdict_lines,
+)
 from .registry import EXPERIMENTS, seed_for
 from .runner import MissingDataError, Reproduction, claims_markdown, reproduce, verdicts_markdown
 
 __all__ = ["CLAIMS", "EXPERIMENTS", "VERDICTS", "MissingDataError", "Reproduction",
-           "chapter_claims", "claim_block", "claims_markdown", "evaluate_claims", "reproduce",
+           "chapter_claims", "claim_block", "claims_markdown", "describe_variant",
+           "evaluate_claims", "reproduce",
            "seed_for", "verdict_lines", "verdicts_markdown"]

@@ -15,10 +15,9 @@ import re
 from collections.abc import Callable
 from dataclasses import dataclass
 
-__all__ = ["CLAIMS", "MARGIN", "VARIANT_KINDS", "VERDICTS", "WHY", "Claim", "chapter_claims",
-           "claim_block", "deviation", "evaluate_claims", "judge_variants", "rates_differ",
-           "verdict_lines",
-           "wilson_lower"]
+__all__ = ["CLAIMS", "MARGIN", "VARIANT_KINDS", "VARIANT_NAMES", "VERDICTS", "WHY", "Claim",
+           "chapter_claims", "claim_block", "describe_variant", "deviation", "evaluate_claims",
+           "judge_variants", "rates_differ", "verdict_lines", "wilson_lower"]
 
 #: The four verdicts a claim can get, from best to no data.
 VERDICTS = ("reproduced", "partly reproduced", "not reproduced", "data unavailable")
@@ -583,6 +582,114 @@ CLAIMS = [
 ]
 
 
+#: Per family of experiments, each alternative's and control's short name in words, for a
+#: table's row label (its ``change``, the run's label, says it in full). The same key can
+#: name different changes in different families (``bandwidth_double``: CLAP's bandwidth in
+#: localization, the densest cluster's bandwidth quantile in the homography experiments).
+VARIANT_NAMES = {
+    "localization3d": {
+        "bandwidth_half": "CLAP's bandwidth halved",
+        "bandwidth_double": "CLAP's bandwidth doubled",
+        "min_support_half": "CLAP's minimum support halved",
+        "min_support_double": "CLAP's minimum support doubled",
+        "consensus": "CLAP answers with the cluster that best explains the detections",
+        "other_mode": "both methods in the other mode (global: no gate)",
+        "budget_all": "every triplet for both methods",
+        "lab_map": "an asymmetric lab map (no mirror image)",
+        "control_silent": "a CLAP that never answers",
+        "control_ungated": "CLAP without the gate, RANSAC with it",
+    },
+    "localization2d": {
+        "bandwidth_half": "CLAP's bandwidth halved",
+        "bandwidth_double": "CLAP's bandwidth doubled",
+        "min_support_double": "CLAP's minimum support doubled",
+        "control_budget": "in CLAP's place, RANSAC scoring a few random candidates",
+        "control_asymmetric": "a field without the mirror symmetry",
+    },
+    "homography": {
+        "polish_both": "both methods polished (reweighted DLT)",
+        "polish_clap_only": "CLAP alone polished (reweighted DLT)",
+        "clap_densest": "CLAP by another reading of the paper's words",
+        "lie_linear": "CLAP clustering by the first-order distance",
+        "lie_exact": "CLAP clustering by the exact logarithm for every pair",
+        "trim_in_cluster": "CLAP trimming inside the densest cluster",
+        "bandwidth_half": "trimming inside the densest cluster, bandwidth halved",
+        "bandwidth_double": "trimming inside the densest cluster, bandwidth doubled",
+        "min_support_half": "trimming inside the densest cluster, minimum support halved",
+        "min_support_double": "trimming inside the densest cluster, minimum support doubled",
+        "equal_budget_400": "RANSAC with CLAP's candidate count",
+        "equal_budget_1000": "CLAP with RANSAC's iteration count",
+        "ransac_10": "a RANSAC with very few iterations",
+        "ransac_no_refit": "RANSAC without the refit on its inliers",
+        "extra_outliers": "random matches added, as many as each pair has",
+    },
+    "multimodel": {
+        "library_clap": "the library's multi-model CLAP",
+    },
+}
+#: The family of :data:`VARIANT_NAMES` each experiment's variants belong to.
+_VARIANT_FAMILY = {"localization3d": "localization3d", "localization2d": "localization2d",
+                   "homography_synthetic": "homography", "homography_vpg": "homography",
+                   "homography_homogr": "homography", "homography_evd": "homography",
+                   "stitching_real": "homography", "multimodel_adelaidermf": "multimodel"}
+#: Variant keys with a number in them (budgets set by the run's parameters): a pattern and
+#: the name it gives.
+_VARIANT_PATTERNS = {
+    "localization3d": ((re.compile(r"budget_(\d+)"), "{0} triplets for both methods"),
+                       (re.compile(r"correspondences_(\d+)"),
+                        "a front end's correspondences, {0} triplets")),
+    "multimodel": ((re.compile(r"ablation: (.+)"), "the library's CLAP with {0}"),),
+}
+
+
+def describe_variant(claim: str, variant: str) -> str:
+    """The short name in words of an alternative or control, for a table's row label.
+
+    Parameters
+    ----------
+    claim : str
+        A claim's key (:data:`CLAIMS`) or an experiment's name (``"localization3d"``): the
+        same variant key can name different changes in different experiments.
+    variant : str
+        The variant's key, as the experiment's output ``variants`` holds it.
+
+    Returns
+    -------
+    str
+        A few words (the run's ``label`` says the change in full).
+
+    Raises
+    ------
+    ValueError
+        When ``claim`` names no claim or experiment, or ``variant`` no variant of it.
+
+    Examples
+    --------
+    >>> describe_variant("3d_outliers", "bandwidth_double")
+    "CLAP's bandwidth doubled"
+    >>> describe_variant("stitching_stable", "bandwidth_double")
+    'trimming inside the densest cluster, bandwidth doubled'
+    >>> describe_variant("localization3d", "budget_300")
+    '300 triplets for both methods'
+    """
+    experiments = next((c.experiments for c in CLAIMS if c.key == claim), None)
+    if experiments is None and claim in _VARIANT_FAMILY:
+        experiments = (claim,)
+    if experiments is None:
+        raise ValueError(f"claim: expected a claim's key ({', '.join(c.key for c in CLAIMS)}) "
+                         f"or an experiment's name ({', '.join(_VARIANT_FAMILY)}), "
+                         f"got {claim!r}")
+    families = dict.fromkeys(_VARIANT_FAMILY[e] for e in experiments if e in _VARIANT_FAMILY)
+    for family in families:
+        if variant in VARIANT_NAMES[family]:
+            return VARIANT_NAMES[family][variant]
+        for pattern, name in _VARIANT_PATTERNS.get(family, ()):
+            m = pattern.fullmatch(str(variant))
+            if m:
+                return name.format(*m.groups())
+    raise ValueError(f"variant: no variant {variant!r} of {claim!r}")
+
+
 def _at_highest_ratio(numbers, methods, what):
     """``what`` of ``methods`` at the highest outlier ratio of a localization table."""
     top = max(_high_ratios(numbers) or [k.split("@")[1] for k in numbers if "@" in k])
@@ -599,10 +706,20 @@ def _most_wrong(numbers):
             f"RANSAC {worst['ransac']:.2f}")
 
 
-def _pairs_per_set(numbers, a, b, what):
-    sets = ", ".join(f"{v[a]} / {v[b]} of {v['pairs']} ({name.removeprefix('homography_')})"
-                     for name, v in numbers.items())
-    return f"{what}, CLAP / RANSAC: {sets}"
+def _pairs_per_set(numbers, a, b, what=""):
+    """``what: CLAP 1, RANSAC 7 of 24 (synthetic); CLAP 3, RANSAC 5 of 16 (homogr)``: the
+    pairs each method wins on each homography data set (without ``what``: the counts alone,
+    for a table whose column header says what they count)."""
+    sets = "; ".join(f"CLAP {v[a]}, RANSAC {v[b]} of {v['pairs']} "
+                     f"({name.removeprefix('homography_')})" for name, v in numbers.items())
+    return f"{what}: {sets}" if what else sets
+
+
+def _seeds(numbers) -> str:
+    """The seeds a stability measurement ran over (``"5"``; ``"2, 3"`` when the data sets
+    differ), "" when ``numbers`` hold none."""
+    seeds = sorted({v["seeds"] for v in numbers.values() if isinstance(v, dict) and "seeds" in v})
+    return ", ".join(str(x) for x in seeds)
 
 
 #: Per claim: a short title and the one number that carries the verdict (from the judge's
@@ -613,15 +730,19 @@ HEADLINES = {
                     lambda n: _at_highest_ratio(n, ("clap", "ransac"), "correct")),
     "3d_spurious": ("3D: RANSAC, not CLAP, converges to spurious poses", _most_wrong),
     "vpg_lie": ("Homographies: CLAP closer to the ground truth",
-                lambda n: _pairs_per_set(n, "closer", "farther", "pairs closer")),
+                lambda n: _pairs_per_set(n, "closer", "farther", f"pairs closer to the truth "
+                                         f"(by more than {CLOSER:g}x)")),
     "stitching_stable": ("Stitching: CLAP steadier from seed to seed",
-                         lambda n: _pairs_per_set(n, "CLAP_steadier", "RANSAC_steadier",
-                                                  "pairs steadier")),
+                         lambda n: _pairs_per_set(
+                             n, "CLAP_steadier", "RANSAC_steadier",
+                             f"pairs varying less over {_seeds(n)} seeds (the distance to the "
+                             f"truth spans a range {CLOSER:g}x narrower)")),
     "vpg_real_sre": ("Real panoramas: similar accuracy",
                      lambda n: f"similar on {n['similar']} of {n['pairs']} pairs "
                                f"({n['share_similar']:.0%})"),
     "stitching_outliers": ("Stitching: more robust than outlier rejection",
-                           lambda n: f"pairs closer: CLAP {n['closer']}, RANSAC "
+                           lambda n: f"pairs closer to the truth (by more than "
+                                     f"{CLOSER:g}x): CLAP {n['closer']}, RANSAC "
                                      f"{n['farther']} of {n['pairs']}"),
     "2d_outliers": ("2D: robust against outliers",
                     lambda n: _at_highest_ratio(n, ("clap", "ransac", "hough"), "correct")),
@@ -634,6 +755,15 @@ HEADLINES = {
                                   f"{n['published_mean']:.1f} %"),
 }
 
+#: Per claim whose headline explains its count: the column header of its alternatives' table
+#: (said once) and the number of each row without the explanation.
+ROW_HEADLINES = {
+    "vpg_lie": (f"pairs closer to the truth (by more than {CLOSER:g}x)",
+                lambda n: _pairs_per_set(n, "closer", "farther")),
+    "stitching_stable": (f"pairs varying less over the seeds (the distance to the truth "
+                         f"spans a range {CLOSER:g}x narrower)",
+                         lambda n: _pairs_per_set(n, "CLAP_steadier", "RANSAC_steadier")),
+}
 
 #: The name CLAP carries in an alternative's numbers: the row's change says which CLAP it is.
 ROW_CLAP = "CLAP (this row)"
@@ -750,9 +880,12 @@ def judge_variants(claim: Claim, outputs: dict) -> list[dict]:
     Returns
     -------
     list of dict
-        ``{"key", "change", "kind", "verdict", "measured", "headline"}`` (the
-        headline: the number that carries the verdict, CLAP named
-        "CLAP (this row)"), in the order the experiments list them.
+        ``{"key", "name", "change", "kind", "verdict", "seeds", "measured", "headline"}``
+        (``name``: :func:`describe_variant`, a few words; ``change``: the run's label,
+        in full; ``seeds``: the seeds a stability rule read, "" for the other rules; the
+        headline: the number that carries the verdict, CLAP named "CLAP (this row)", in
+        the words of ``ROW_HEADLINES`` when the claim has them), in the order the
+        experiments list them.
 
     Examples
     --------
@@ -768,7 +901,7 @@ def judge_variants(claim: Claim, outputs: dict) -> list[dict]:
         for key, v in (outputs.get(e, {}).get("variants") or {}).items():
             if claim.key in v.get("claims", (claim.key,)):
                 keys.setdefault(key, v)
-    headline = HEADLINES.get(claim.key, ("", None))[1]
+    headline = ROW_HEADLINES.get(claim.key, HEADLINES.get(claim.key, ("", None)))[1]
     rows = []
     for key, first in keys.items():
         kind = first.get("kind", "sensitivity")
@@ -789,10 +922,21 @@ def judge_variants(claim: Claim, outputs: dict) -> list[dict]:
             line = headline(numbers) if headline and numbers else measured
         except (KeyError, ValueError):  # the variant lacks what the headline reads
             line = measured
-        rows.append({"key": key, "change": first["label"], "kind": kind, "verdict": verdict,
+        try:
+            name = describe_variant(claim.key, key)
+        except ValueError:  # a variant without a short name: its label says it
+            name = first["label"]
+        rows.append({"key": key, "name": name, "change": _SEEDS_NOTE.sub("", first["label"]),
+                     "kind": kind, "verdict": verdict, "seeds": _seeds(numbers),
                      "measured": _qualify(measured, ROW_CLAP),
                      "headline": _qualify(line, ROW_CLAP)})
     return rows
+
+
+#: The note the homography experiments add to a variant's label when it runs fewer seeds
+#: than the protocol: the claims blocks say the seeds once, in a column of the claim whose
+#: rule reads them (``seeds``), not in every label.
+_SEEDS_NOTE = re.compile(r" \(stability over \d+ seeds, the primary's over \d+\)$")
 
 
 def _pairs(n: int) -> str:
@@ -814,6 +958,7 @@ def evaluate_claims(outputs: dict, skipped: dict | None = None) -> list[dict]:
     Keys: ``key, claim, reading, section, experiments, rule, chapter, data``;
     ``title`` and ``headline`` (a short name and the one number that carries
     the verdict, for the front page's table; "-" when nothing was measured);
+    ``seeds`` (the seeds a stability rule read, "" for the other rules);
     ``verdict`` (one of :data:`VERDICTS`: the rule on the paper's protocol as
     the experiments read it), ``measured`` and ``numbers`` (CLAP named as the
     chapters name it: ``clap_name``); ``explanation`` (the verdict explained
@@ -821,7 +966,7 @@ def evaluate_claims(outputs: dict, skipped: dict | None = None) -> list[dict]:
     experiment's one-line protocol); ``deviations`` (the rule's and the
     experiments' ``{"paper", "here", "why"}``); ``sensitivity`` (the verdict
     under each sensitivity and extension variant: ``{"key", "change",
-    "kind", "verdict", "measured", "headline"}``); ``controls`` (the same
+    "kind", "verdict", "seeds", "measured", "headline"}``); ``controls`` (the same
     under the controls: perturbed methods or data sets under which the rule
     must reach the other verdict, so that it is seen to be able to; each with
     ``reaches``, ``"yes"``, ``"partly"`` or ``"no"``, and a ``note`` saying,
@@ -864,6 +1009,7 @@ def evaluate_claims(outputs: dict, skipped: dict | None = None) -> list[dict]:
             rows = judge_variants(c, outputs)
         title, headline = HEADLINES.get(c.key, ("", None))
         entry["title"] = title or c.key
+        entry["seeds"] = _seeds(entry["numbers"])
         entry["headline"] = _qualify(headline(entry["numbers"]) if headline and entry["numbers"]
                                      else "-" if headline else entry["measured"], c.clap_name)
         assert entry["verdict"] in VERDICTS
@@ -888,13 +1034,30 @@ def _row(cells) -> str:
     return "| " + " | ".join(_cell(c) for c in cells) + " |"
 
 
-def claim_block(entry: dict) -> str:
+def _deviation_key(d: dict) -> tuple:
+    return (d["paper"], d["here"], d["why"])
+
+
+def claim_block(entry: dict, shown: dict | None = None, ref: str = "") -> str:
     """One evaluated claim as a short page block: a paragraph (the paper's words, how they
-    are read, the verdict and why, the rule, what was measured on which data), a sentence for
-    each control that did not reach the other verdict, then a table of the alternatives (one
-    row each: what changed, its kind, the verdict, the number that carries it) and one of the
-    deviations from the paper. Every fact is stated once; the chapters and the front page
-    show the same block.
+    are read, the verdict and why, the alternatives it depends on, the rule, what was
+    measured on which data), a sentence for each control that did not decide (did not reach
+    the other verdict), then a table of the alternatives and controls (one row each: what
+    changed, its kind, the verdict, the number that carries it) and one of the deviations
+    from the paper. Every fact is stated once; the chapters and the front page show the
+    same block.
+
+    Parameters
+    ----------
+    entry : dict
+        One claim of :func:`evaluate_claims`.
+    shown : dict, optional
+        On a page of several blocks, the deviations the blocks above it listed (``(paper,
+        here, why)`` -> how to refer to the block that listed it, e.g. "claim 3"): the block
+        refers to them ("*Deviations:* as for claim 3 above") instead of listing them again,
+        and adds its own under ``ref``.
+    ref : str
+        How later blocks refer to this one (with ``shown``).
 
     Examples
     --------
@@ -902,9 +1065,14 @@ def claim_block(entry: dict) -> str:
     ...      "measured": "CLAP (paper) 0.9, RANSAC 0.5", "data": ["toy"], "rule": "a rule",
     ...      "experiments": ["toy"], "sensitivity": [], "controls": [{"change": "a broken CLAP",
     ...      "kind": "control", "verdict": "reproduced", "headline": "CLAP (this row) 0.8",
-    ...      "reaches": "no", "note": "it did not"}]}
+    ...      "reaches": "no", "note": "it did not"}],
+    ...      "deviations": [{"paper": "a CDF", "here": "a rate", "why": "a choice"}]}
     >>> print(claim_block(e).splitlines()[2])
     **On the paper's protocol: reproduced.**
+    >>> shown = {}
+    >>> first, second = claim_block(e, shown, "claim 1"), claim_block(e, shown, "claim 2")
+    >>> print(second.splitlines()[-1])
+    *Deviations from the paper:* as for claim 1 above.
     """
     reading = f" Read here as: {entry['reading']}." if entry.get("reading") else ""
     lines = [f"*The paper:* \"{entry['claim']}\" ({entry['section']}).{reading}", ""]
@@ -913,10 +1081,17 @@ def claim_block(entry: dict) -> str:
         verdict += f" Why: {entry['explanation']}"
     alternatives = entry.get("sensitivity", [])
     if entry.get("depends_on"):
-        n = len(entry["depends_on"])
+        flips = [r for r in alternatives if r.get("kind") == "sensitivity"
+                 and r["change"] in entry["depends_on"]]
         total = sum(r.get("kind") == "sensitivity" for r in alternatives)
-        verdict += (f" {n} of {total} alternatives of the protocol "
-                    + ("gives" if n == 1 else "give") + " another verdict (the table below).")
+        by_verdict = {}
+        for r in flips:
+            by_verdict.setdefault(r["verdict"], []).append(r.get("name") or r["change"])
+        verdict += (f" The verdict depends on {len(flips)} of the {total} alternatives of the "
+                    f"protocol (the table below): "
+                    + "; ".join(f"{v} under {'; '.join(names)}" if len(names) == 1 else
+                                f"{v} under each of: {'; '.join(names)}"
+                                for v, names in by_verdict.items()) + ".")
     other = [r for r in alternatives if r.get("kind") == "extension"
              and r["verdict"] not in (entry["verdict"], "data unavailable")]
     if other:
@@ -948,14 +1123,29 @@ def claim_block(entry: dict) -> str:
                       "to."]
     rows = alternatives + entry.get("controls", [])
     if rows:
+        number = ROW_HEADLINES.get(entry.get("key"), ("the number",))[0]
+        seeds = entry.get("seeds") and any(r.get("seeds") for r in rows)
         lines += ["", f"The alternatives and controls, each judged by the same rule (*{ROW_CLAP}*"
                       f" is CLAP as the row's change leaves it):", "",
-                  "| what changed | kind | verdict | the number |", "|---|---|---|---|"]
+                  "| what changed | kind | verdict | "
+                  + (f"seeds (the protocol: {entry['seeds']}) | " if seeds else "")
+                  + f"{number} |", "|---|---|---|" + ("---|" if seeds else "") + "---|"]
         lines += [_row([r["change"], r["kind"], f"**{r['verdict']}**",
+                        *([r.get("seeds") or "-"] if seeds else []),
                         r.get("headline") or r["measured"]]) for r in rows]
-    if entry.get("deviations"):
+    deviations = entry.get("deviations") or []
+    if shown is not None:
+        earlier = list(dict.fromkeys(shown[_deviation_key(d)] for d in deviations
+                                     if _deviation_key(d) in shown))
+        deviations = [d for d in deviations if _deviation_key(d) not in shown]
+        for d in deviations:
+            shown[_deviation_key(d)] = ref
+        if earlier:
+            lines += ["", "*Deviations from the paper:* as for " + " and ".join(earlier)
+                      + " above" + (", and:" if deviations else ".")]
+    if deviations:
         lines += ["", "| the paper says | here | why |", "|---|---|---|"]
-        lines += [_row([d["paper"], d["here"], d["why"]]) for d in entry["deviations"]]
+        lines += [_row([d["paper"], d["here"], d["why"]]) for d in deviations]
     return "\n".join(lines) + "\n"
 
 
@@ -973,7 +1163,7 @@ def chapter_claims(chapter: str, claims: list | None = None) -> str:
     **2D: robust against outliers.** *The paper:* "CLAP
     """
     judged = {c["key"]: c for c in claims or ()}
-    items = []
+    items, shown = [], {}
     for c in CLAIMS:
         if c.chapter != chapter:
             continue
@@ -985,7 +1175,7 @@ def chapter_claims(chapter: str, claims: list | None = None) -> str:
                          f"*Rule* (experiment {', '.join(f'`{x}`' for x in c.experiments)}): "
                          f"{c.rule}.\n")
         else:
-            items.append(f"**{title}**\n\n" + claim_block(e))
+            items.append(f"**{title}**\n\n" + claim_block(e, shown, f"*{title}*"))
     if not items:
         raise ValueError(f"chapter: no claim is tested in {chapter!r}")
     return "\n".join(items)

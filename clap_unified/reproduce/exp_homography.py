@@ -128,9 +128,9 @@ VARIANTS = (
     Variant("polish_clap_only", "CLAP alone ends with the reweighted-DLT polish "
             "(unequal: RANSAC as in the primary)",
             "sensitivity", {"polish": True}),
-    Variant("clap_densest", "CLAP by another reading of the paper's words (the protocol "
-            "`clap_densest`: first-order distance, trimming inside the densest cluster, "
-            "polish for CLAP only); RANSAC as in the primary", "sensitivity",
+    Variant("clap_densest", "CLAP by another reading of the paper's words (first-order "
+            "distance, trimming inside the densest cluster, polish for CLAP only); RANSAC as "
+            "in the primary", "sensitivity",
             {"method": "clap_densest"}),
     Variant("lie_linear", "CLAP clusters by the first-order distance "
             "(||Hn1^-1 Hn2 - I||_F + ||Hn2^-1 Hn1 - I||_F) / 2 instead of the logarithm",

@@ -385,7 +385,8 @@ def claims_markdown(claims, details: bool = True) -> str:
     """The claims as Markdown: one short line per claim (its title, the verdict on the paper's
     protocol, the number that carries it), then each claim's
     :func:`~clap_unified.reproduce.claim_block` in
-    a collapsed block (the book's front page shows the same).
+    a collapsed block (the book's front page shows the same); a deviation several claims
+    share is listed by the first of them, the others refer to it ("as for claim 3 above").
 
     Examples
     --------
@@ -411,16 +412,17 @@ def claims_markdown(claims, details: bool = True) -> str:
         lines.append(_row([i, c.get("title") or c["key"], verdict,
                            c.get("headline") or c["measured"]]))
     if details:
+        shown = {}  # deviations listed by a block above: later blocks refer to it
         for i, c in enumerate(claims, 1):
             lines += ["", f"<details><summary>{i}. {c.get('title') or c['key']}: "
-                      f"{c['verdict']}</summary>", "", claim_block(c).rstrip("\n"), "",
-                      "</details>"]
+                      f"{c['verdict']}</summary>", "",
+                      claim_block(c, shown, f"claim {i}").rstrip("\n"), "", "</details>"]
     return "\n".join(lines) + "\n"
 
 
 def _controls_cell(controls) -> str:
     """The controls' verdicts, each marked when it did not reach the other verdict."""
-    marks = {"partly": " (moved part of the way)", "no": " (did not move)"}
+    marks = {"partly": " (did not decide: moved part of the way)", "no": " (did not decide)"}
     return "; ".join(r["verdict"] + marks.get(r.get("reaches"), "") for r in controls) or "-"
 
 
@@ -438,7 +440,7 @@ def verdicts_markdown(claims) -> str:
     >>> print(verdicts_markdown([claim]))
     | claim | on the paper's protocol | alternatives that change it | controls |
     |---|---|---|---|
-    | CLAP wins | **reproduced** | none of 1 | not reproduced; reproduced (did not move) |
+    | CLAP wins | **reproduced** | none of 1 | not reproduced; reproduced (did not decide) |
     <BLANKLINE>
     """
     lines = ["| claim | on the paper's protocol | alternatives that change it | controls |",
