@@ -174,6 +174,20 @@ def test_an_uncited_glued_number_fails():
     assert uncited_glue({"ch.ipynb": nb}, []) == []
 
 
+#: ``{glue:text}`path::key``` with no format: myst-nb splits the key at its last colon, so
+#: the key becomes ``path:`` and the page shows nothing (``path::key:g`` is read as meant).
+UNFORMATTED_CROSS_CITATION = re.compile(r"\{glue:text\}`[^`:]+::[^`:]+`")
+
+
+def test_a_citation_from_another_document_has_a_format():
+    pages = {p.name: p.read_text(encoding="utf-8") for p in BOOK.parent.rglob("*.md")
+             if "_build" not in p.parts}
+    bad = {name: UNFORMATTED_CROSS_CITATION.findall(text) for name, text in pages.items()}
+    assert not {k: v for k, v in bad.items() if v}, bad
+    assert UNFORMATTED_CROSS_CITATION.findall("{glue:text}`ch.ipynb::x` {glue:text}`ch.ipynb::y:g`"
+                                              " {glue:text}`z`") == ["{glue:text}`ch.ipynb::x`"]
+
+
 def _toc_chapters() -> list[str]:
     """The chapter notebooks in the order of the book's table of contents."""
     toc = (BOOK.parent / "_toc.yml").read_text(encoding="utf-8")
