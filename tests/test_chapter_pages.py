@@ -175,8 +175,9 @@ def test_an_uncited_glued_number_fails():
 
 
 #: ``{glue:text}`path::key``` with no format: myst-nb splits the key at its last colon, so
-#: the key becomes ``path:`` and the page shows nothing (``path::key:g`` is read as meant).
-UNFORMATTED_CROSS_CITATION = re.compile(r"\{glue:text\}`[^`:]+::[^`:]+`")
+#: the key becomes ``path:`` and the page shows nothing (``path::key:g`` is read as meant);
+#: ``{glue:md}`` reads no other document at all.
+UNFORMATTED_CROSS_CITATION = re.compile(r"\{glue:text\}`[^`:]+::[^`:]+`|\{glue:md\}`[^`]*::[^`]*`")
 
 
 def test_a_citation_from_another_document_has_a_format():
@@ -184,8 +185,10 @@ def test_a_citation_from_another_document_has_a_format():
              if "_build" not in p.parts}
     bad = {name: UNFORMATTED_CROSS_CITATION.findall(text) for name, text in pages.items()}
     assert not {k: v for k, v in bad.items() if v}, bad
-    assert UNFORMATTED_CROSS_CITATION.findall("{glue:text}`ch.ipynb::x` {glue:text}`ch.ipynb::y:g`"
-                                              " {glue:text}`z`") == ["{glue:text}`ch.ipynb::x`"]
+    assert UNFORMATTED_CROSS_CITATION.findall(
+        "{glue:text}`ch.ipynb::x` {glue:text}`ch.ipynb::y:g` {glue:text}`z` {glue:md}`w`"
+        " {glue:md}`ch.ipynb::v:myst`") == ["{glue:text}`ch.ipynb::x`",
+                                             "{glue:md}`ch.ipynb::v:myst`"]
 
 
 def _toc_chapters() -> list[str]:
