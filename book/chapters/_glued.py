@@ -90,3 +90,15 @@ def about(ratio: float):
     """
     value = float(f"{float(ratio):.1g}")
     return int(value) if value >= 1 else value
+
+
+def as_long(ratio: float, than: str) -> str:
+    """A time ratio in words, to :func:`about`'s one figure ("about as long as" at 1).
+
+    Examples
+    --------
+    >>> as_long(1.3, "RANSAC"), as_long(0.62, "RANSAC"), as_long(118.0, "OpenCV")
+    ('about as long as RANSAC', 'about 0.6 times as long as RANSAC', 'about 100 times as long as OpenCV')
+    """
+    figure = about(ratio)
+    return f"about as long as {than}" if figure == 1 else f"about {figure} times as long as {than}"
