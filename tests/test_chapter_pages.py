@@ -1,22 +1,32 @@
 """Every chapter of the book reads as a textbook page (issue 28).
 
-The check is static: it reads each ``book/chapters/*.ipynb`` with its stored outputs (the
-ones nbval compares and the book shows) and fails on
+The checks are static: they read each ``book/chapters/*.ipynb`` with its stored outputs (the
+ones nbval compares and the book shows). :func:`page_defects` holds every chapter to the same
+rules and fails on
 
-* a visible code cell (not tagged ``remove-input``, ``remove-cell`` or ``hide-input``)
-  longer than :data:`MAX_VISIBLE_LINES` lines: teaching code is short;
+* a visible code cell (not tagged ``remove-input``, ``remove-cell``, ``hide-input`` or
+  ``hide-cell``) longer than :data:`MAX_VISIBLE_LINES` lines: teaching code is short; a folded
+  cell (code a reader may unfold: how a figure is drawn) longer than :data:`MAX_FOLDED_LINES`;
+* ``glue(...)``/``keep(...)`` bookkeeping in a cell a reader sees or may unfold: it belongs in
+  removed cells (``remove-cell``, ``remove-input``);
 * a stored output line (a stream, or a ``text/plain`` result) wider than
   :data:`MAX_OUTPUT_WIDTH` characters: it would scroll out of the text column (an output
   folded under ``hide-output``, such as a printed source file, may scroll);
+* a cell that shows more than one text output (a print, then a table, then a print);
 * ``stderr`` output containing ``Warning``: warnings are fixed at their cause;
 * a ``text/plain`` result with no richer form beside it that is a bare object repr
   (``Text(...)``, ``<matplotlib...>``, ``<Figure ...>``): a plotting cell's last value
   leaking onto the page;
-* a visible code cell that glues numbers for the prose (``glue(...)`` or the chapters'
-  ``keep(...)``): bookkeeping belongs in hidden cells.
+* in the text, captions and outputs: a bare "CLAP" beside a number (the book measures more than
+  one CLAP: "CLAP (paper)", "CLAP (the library's)"), another name for the library's CLAP, a
+  synthetic pair's code name, a pointer to the repository's files (a reader has the book, not
+  the bench scripts, README or ARCHITECTURE.md), words about how the page was made;
+* an exercise without a worked solution: a folded cell opening with ``# N.`` (or
+  ``# Exercise N:``) whose output ends on a sentence, computed.
 
-A last check reads the whole book: every number a chapter glues is cited by some page
-(``{glue:text}`name```), so the stored outputs hold no number nobody reads.
+The chapters' own checks (the homography chapters' variant keys) live beside their
+experiments' tests. Further checks read the whole book: every number a chapter glues is cited
+by some page, and a citation from another document has a format.
 """
 
 from __future__ import annotations
@@ -32,49 +42,159 @@ CHAPTERS = sorted(BOOK.glob("*.ipynb"))
 
 #: Tags under which a code cell's source is not shown as it stands (removed or folded).
 HIDDEN = {"remove-input", "remove-cell", "hide-input", "hide-cell"}
+#: Tags under which a code cell's source is folded: shown to a reader who unfolds it.
+FOLDED = {"hide-input", "hide-cell"}
 MAX_VISIBLE_LINES = 20
+MAX_FOLDED_LINES = 45
 MAX_OUTPUT_WIDTH = 88
 BARE_REPR = re.compile(r"\s*(Text\(|<matplotlib|<Figure)")
 BOOKKEEPING = re.compile(r"^\s*(glue|keep)\(", flags=re.MULTILINE)
 CITATION = re.compile(r"\{glue(?::\w*)?\}`([^`]+)`")
+#: A bare "CLAP" beside a number: before a glued value or a digit, or right after one
+#: ("5.0 % for CLAP,"), where the book measures more than one CLAP ("the library's CLAP"
+#: is a name).
+BARE_CLAP_NUMBER = re.compile(r"(?<!library's\s)\bCLAP(?!\s*\()[\s:]*(?:\{glue|\d)|"
+                              r"[\d`][^|.;`]{0,12} for CLAP\b(?!\s*\()")
+#: Other names for the library's CLAP ("CLAP (the library's)"), and a synthetic pair's code name.
+OTHER_NAME = re.compile(r"\bdefault CLAP\b|CLAP \(library default\)|\br=0\.\d+ decoy=0")
+REPOSITORY_FILES = re.compile(r"\bbench/|\bbench_\w+\.py|ARCHITECTURE\.md|\bREADME\b")
+#: Words about how the page was made rather than about its subject.
+SELF_TALK = re.compile(r"machine that built|\bcrippled\b|\bglued for\b|\bevery build\b|"
+                       r"\bmake book\b|\bmake test\b|\bwe tried\b|\ban earlier version\b|"
+                       r"\bthis book was built\b", flags=re.IGNORECASE)
+#: The first line of a worked solution: ``# 2. ...`` or ``# Exercise 2: ...``.
+SOLUTION = re.compile(r"#\s*(?:Exercise\s+)?(\d+)[.:]")
+EXERCISE = re.compile(r"^(\d+)\. ", flags=re.MULTILINE)
+
 
 def _text(value) -> str:
     return "".join(value) if isinstance(value, list) else str(value)
+
+
+def _tags(cell) -> set[str]:
+    return set(cell.get("metadata", {}).get("tags", []))
+
+
+def text_outputs(outputs) -> list[tuple[str, str]]:
+    """(kind, text) of the text outputs a reader sees, consecutive prints of a stream joined
+    (a figure and a glued value are not text outputs)."""
+    blocks = []
+    for o in outputs:
+        if o["output_type"] == "stream":
+            kind, text = "stream:" + o.get("name", ""), _text(o["text"])
+        elif "image/png" in o.get("data", {}) or o.get("metadata", {}).get("scrapbook"):
+            continue
+        elif "text/markdown" in o.get("data", {}):
+            kind, text = "markdown", _text(o["data"]["text/markdown"])
+        elif "text/html" in o.get("data", {}):
+            kind, text = "html", _text(o["data"].get("text/plain", ""))
+        elif "text/plain" in o.get("data", {}):
+            kind, text = "plain", _text(o["data"]["text/plain"])
+        else:
+            continue
+        if blocks and blocks[-1][0] == kind and kind.startswith("stream"):
+            blocks[-1] = (kind, blocks[-1][1] + text)
+        else:
+            blocks.append((kind, text))
+    return blocks
+
+
+def _cell_defects(where: str, cell: dict) -> list[str]:
+    defects = []
+    source, tags = _text(cell["source"]), _tags(cell)
+    n_lines = len(source.splitlines())
+    if not tags & HIDDEN and n_lines > MAX_VISIBLE_LINES:
+        defects.append(f"{where}: visible code cell of {n_lines} lines "
+                       f"(at most {MAX_VISIBLE_LINES})")
+    if tags & FOLDED and n_lines > MAX_FOLDED_LINES:
+        defects.append(f"{where}: folded code cell of {n_lines} lines "
+                       f"(at most {MAX_FOLDED_LINES})")
+    if (not tags & HIDDEN or tags & FOLDED) and BOOKKEEPING.search(source):
+        defects.append(f"{where}: glue bookkeeping in a cell a reader sees or may unfold")
+    for output in cell.get("outputs", []):
+        if output["output_type"] == "stream":
+            text = _text(output["text"])
+            if output.get("name") == "stderr" and "Warning" in text:
+                defects.append(f"{where}: a warning on stderr: {text.strip()[:80]!r}")
+        elif "text/plain" in output.get("data", {}):
+            text = _text(output["data"]["text/plain"])
+            if set(output["data"]) == {"text/plain"} and BARE_REPR.match(text):
+                defects.append(f"{where}: a bare object repr: {text.strip()[:60]!r}")
+            if len(output["data"]) > 1:
+                continue  # a figure's or a table's plain form is not what the page shows
+        else:
+            continue
+        for line in text.splitlines() if "hide-output" not in tags else ():  # folded: scrolls
+            if len(line) > MAX_OUTPUT_WIDTH:
+                defects.append(f"{where}: an output line of {len(line)} characters "
+                               f"(at most {MAX_OUTPUT_WIDTH}): {line[:60]!r}...")
+    if "remove-cell" in tags:
+        return defects
+    blocks = text_outputs(cell.get("outputs", []))
+    if len(blocks) > 1:
+        defects.append(f"{where}: {len(blocks)} text outputs "
+                       f"({', '.join(kind for kind, _ in blocks)})")
+    if "chapter_claims(" not in source:  # the claims' generator has its own checks
+        defects += _words_defects(where + " output", "\n".join(t for _, t in blocks))
+    return defects
+
+
+def _words_defects(where: str, text: str) -> list[str]:
+    """Naming, repository pointers and self-talk in a text a reader sees."""
+    return ([f"{where}: bare CLAP beside a number: {m!r}"
+             for m in BARE_CLAP_NUMBER.findall(text)]
+            + [f"{where}: another name: {m.group(0)!r}" for m in OTHER_NAME.finditer(text)]
+            + [f"{where}: names a repository file: {m.group(0)!r}"
+               for m in REPOSITORY_FILES.finditer(text)]
+            + [f"{where}: says how the page was made: {m.group(0)!r}"
+               for m in SELF_TALK.finditer(text)])
+
+
+def _solution_output(cell: dict) -> str:
+    return "".join(t for _, t in text_outputs(cell.get("outputs", []))).strip()
+
+
+def exercise_defects(cells: list[dict]) -> list[str]:
+    """The exercises without a worked solution whose output ends on a sentence."""
+    defects = []
+    for start, cell in enumerate(cells):
+        if cell["cell_type"] != "markdown" or "## Exercises" not in _text(cell["source"]):
+            continue
+        questions = _text(cell["source"]).split("## Exercises", 1)[1].split("```", 1)[0]
+        solutions: dict[str, list[str]] = {}
+        number = None
+        for later in cells[start + 1:]:
+            if later["cell_type"] != "code" or not _tags(later) & FOLDED:
+                continue
+            match = SOLUTION.match(_text(later["source"]))
+            number = match.group(1) if match else number  # a solution's later cells
+            if number is not None:
+                solutions.setdefault(number, []).append(_solution_output(later))
+        for number in EXERCISE.findall(questions):
+            printed = [p for p in solutions.get(number, []) if p]
+            if number not in solutions:
+                defects.append(f"exercise {number}: no worked solution (a folded cell "
+                               f"'# {number}.')")
+            elif not printed:
+                defects.append(f"exercise {number}: its solution shows nothing")
+            elif not re.search(r"[.!?]$", printed[-1]):
+                defects.append(f"exercise {number}: its solution's output ends without a "
+                               f"sentence: {printed[-1].splitlines()[-1][:60]!r}")
+    return defects
 
 
 def page_defects(notebook: dict) -> list[str]:
     """What keeps one notebook (parsed JSON) from reading as a textbook page."""
     defects = []
     for index, cell in enumerate(notebook["cells"]):
-        if cell["cell_type"] != "code":
-            continue
         where = f"cell {index}"
-        tags = set(cell.get("metadata", {}).get("tags", []))
-        n_lines = len(_text(cell["source"]).splitlines())
-        if not tags & HIDDEN and n_lines > MAX_VISIBLE_LINES:
-            defects.append(f"{where}: visible code cell of {n_lines} lines "
-                           f"(at most {MAX_VISIBLE_LINES})")
-        if not tags & HIDDEN and BOOKKEEPING.search(_text(cell["source"])):
-            defects.append(f"{where}: glue bookkeeping in a visible code cell")
-        for output in cell.get("outputs", []):
-            texts = []
-            if output["output_type"] == "stream":
-                text = _text(output["text"])
-                texts.append(text)
-                if output.get("name") == "stderr" and "Warning" in text:
-                    defects.append(f"{where}: a warning on stderr: {text.strip()[:80]!r}")
-            elif "text/plain" in output.get("data", {}):
-                text = _text(output["data"]["text/plain"])
-                texts.append(text)
-                richer = set(output["data"]) - {"text/plain"}
-                if not richer and BARE_REPR.match(text):
-                    defects.append(f"{where}: a bare object repr: {text.strip()[:60]!r}")
-            for text in texts if "hide-output" not in tags else ():  # folded: scrolls
-                for line in text.splitlines():
-                    if len(line) > MAX_OUTPUT_WIDTH:
-                        defects.append(f"{where}: an output line of {len(line)} characters "
-                                       f"(at most {MAX_OUTPUT_WIDTH}): {line[:60]!r}...")
-    return defects
+        if cell["cell_type"] == "markdown":
+            defects += _words_defects(where, _text(cell["source"]))
+        elif cell["cell_type"] == "code":
+            caption = json.dumps(cell.get("metadata", {}).get("mystnb", {}))
+            defects += _words_defects(where + " caption", caption)
+            defects += _cell_defects(where, cell)
+    return defects + exercise_defects(notebook["cells"])
 
 
 def _param(path: Path):
@@ -96,17 +216,21 @@ def _cell(source, outputs=(), tags=()):
             "metadata": {"tags": list(tags)}}
 
 
+def _stream(text, name="stdout"):
+    return {"output_type": "stream", "name": name, "text": text}
+
+
 def test_the_checks_catch_each_defect():
     long_source = "\n".join(f"x{i} = {i}" for i in range(MAX_VISIBLE_LINES + 1))
-    wide = {"output_type": "stream", "name": "stdout",
-            "text": "x" * (MAX_OUTPUT_WIDTH + 1) + "\n"}
-    warning = {"output_type": "stream", "name": "stderr",
-               "text": "UserWarning: The figure layout has changed to tight\n"}
+    longer = "\n".join(f"x{i} = {i}" for i in range(MAX_FOLDED_LINES + 1))
+    wide = _stream("x" * (MAX_OUTPUT_WIDTH + 1) + "\n")
+    warning = _stream("UserWarning: The figure layout has changed to tight\n", "stderr")
     bare = {"output_type": "execute_result",
             "data": {"text/plain": "Text(0.5, 1.0, 'title')"}}
     figure = {"output_type": "display_data",
               "data": {"text/plain": "<Figure size 640x480 with 1 Axes>",
                        "image/png": "..."}}
+    table = {"output_type": "display_data", "data": {"text/markdown": "| a |"}}
     cells = [_cell(long_source), _cell("print()", [wide]), _cell("f()", [warning]),
              _cell("ax.set_title('t')", [bare]), _cell("plt.show()", [figure]),
              _cell(long_source, tags=["hide-input"]),
@@ -114,15 +238,57 @@ def test_the_checks_catch_each_defect():
              {"cell_type": "markdown", "source": "y" * 200, "metadata": {}},
              _cell('plt.show()\nkeep("n_lines", 4)'),
              _cell('keep("n_lines", 4)', tags=["remove-cell"]),
-             _cell("print(source)", [wide], tags=["hide-output"])]  # folded: may scroll
+             _cell("print(source)", [wide], tags=["hide-output"]),  # folded: may scroll
+             _cell(longer, tags=["hide-input"]),
+             _cell("x = 1\nkeep('x', x)", tags=["hide-input"]),
+             _cell("f()", [_stream("x\n"), table, _stream("y\n")]),
+             _cell("print(1)\nprint(2)", [_stream("1\n"), _stream("2\n")]),  # one block
+             _markdown("at 80 % CLAP {glue:text}`c4_x` of the frames; see "
+                       "`bench/bench_lines.py` and ARCHITECTURE.md"),
+             _markdown("Across the kernels we tried, the default CLAP wins."),
+             _cell("print(v)", [_stream("CLAP 0.53 px, RANSAC 0.70 px\n")]),
+             _cell("print(name)", [_stream("synthetic r=0.08 decoy=0.04 #1\n")]),
+             _cell("show(chapter_claims(x))", [_stream("CLAP closer on 1\n")])]
     defects = page_defects({"cells": cells})
-    assert [d.split(":")[0] for d in defects] == ["cell 0", "cell 1", "cell 2", "cell 3",
-                                                  "cell 8"]
+    assert [d.split(":")[0] for d in defects] == [
+        "cell 0", "cell 1", "cell 2", "cell 3", "cell 8", "cell 11", "cell 12", "cell 13",
+        "cell 15", "cell 15", "cell 15", "cell 15", "cell 16", "cell 16", "cell 17 output",
+        "cell 18 output"], defects
     assert f"visible code cell of {MAX_VISIBLE_LINES + 1} lines" in defects[0]
     assert f"{MAX_OUTPUT_WIDTH + 1} characters" in defects[1]
     assert "warning" in defects[2]
     assert "bare object repr" in defects[3]
-    assert "bookkeeping" in defects[4]
+    assert "bookkeeping" in defects[4] and "bookkeeping" in defects[6]
+    assert f"folded code cell of {MAX_FOLDED_LINES + 1} lines" in defects[5]
+    assert "3 text outputs" in defects[7]
+    assert "bare CLAP" in defects[8] and "bench/" in defects[9]
+    assert "bench_lines.py" in defects[10] and "ARCHITECTURE" in defects[11]
+    assert "default CLAP" in defects[12] and "we tried" in defects[13]
+    assert "bare CLAP" in defects[14] and "r=0.08 decoy=0" in defects[15]
+    fine = {"cells": [_markdown("CLAP (paper) {glue:text}`x`; the library's bench"),
+                      _cell("print()", [_stream("x" * MAX_OUTPUT_WIDTH)]),
+                      _cell("print(v)", [_stream("CLAP (paper) 0.53 px; clap_densest\n")]),
+                      _markdown("the library's CLAP\n{glue:text}`x` and the library's CLAP: 2")]}
+    assert page_defects(fine) == []
+
+
+def test_every_exercise_needs_a_worked_solution_ending_in_a_sentence():
+    questions = _markdown("## Exercises\n\n1. One?\n2. Two?\n3. Three?\n4. Four?\n"
+                          "```{tip}\n5. not a question\n```")
+    cells = [questions,
+             _cell("# 1. one\nprint('one')", [_stream("one\n")], ["hide-cell"]),
+             _cell("# Exercise 2: two", [], ["hide-input"]),
+             _cell("# 3. three\nprint('x')", [_stream("x = 1\n")], ["hide-cell"]),
+             _cell("print('It holds.')", [_stream("It holds.\n")], ["hide-cell"])]
+    assert exercise_defects(cells) == [
+        "exercise 1: its solution's output ends without a sentence: 'one'",
+        "exercise 2: its solution shows nothing",
+        "exercise 4: no worked solution (a folded cell '# 4.')"]
+    cells[1]["outputs"] = [_stream("one: the hint holds.\n")]
+    cells[2]["outputs"] = [{"output_type": "display_data",
+                            "data": {"text/markdown": "| a |\n\nThe table says so."}}]
+    cells.append(_cell("# 4. four\nprint('Four.')", [_stream("Four.\n")], ["hide-input"]))
+    assert exercise_defects(cells) == []
 
 
 def _markdown(source: str) -> dict:
@@ -243,10 +409,6 @@ def test_project_talk_is_caught_and_the_football_goal_is_not():
 BUILD_ANECDOTE = re.compile(
     r"machine that built|\bwe tried\b|\bcrippled\b|took (?:more than|over|about) [^.]{0,40}"
     r"(?:minutes?|hours?|seconds?)", flags=re.IGNORECASE)
-#: A bare "CLAP" beside a number: before a glued value or a digit, or right after one
-#: ("5.0 % for CLAP,"), where the book measures more than one CLAP.
-BARE_CLAP_NUMBER = re.compile(r"\bCLAP(?!\s*\()[\s:]*(?:\{glue|\d)|[\d`][^|.;`]{0,12} for "
-                              r"CLAP\b(?!\s*\()")
 FRONT_PAGES = ("intro.md", "choosing.md")
 
 
@@ -268,61 +430,6 @@ def test_anecdotes_and_bare_claps_are_caught():
     assert not BARE_CLAP_NUMBER.search("{glue:text}`x` for CLAP (paper); CLAP (paper) "
                                        "{glue:text}`y`")
 
-
-#: The chapters whose pages meet the narrower rules of the second read (issue 28): output
-#: lines of at most :data:`NARROW_OUTPUT` characters, no bare "CLAP" beside a number in the
-#: text or a caption, and no pointer to the repository's files (a reader has the book, not
-#: the repository's bench scripts, README or ARCHITECTURE.md).
-NARROW_CHAPTERS = ("01_one_abstraction", "02_line_fitting", "03_localization_2d",
-                   "04_localization_3d")
-NARROW_OUTPUT = 88
-REPOSITORY_FILES = re.compile(r"\bbench/|\bbench_\w+\.py|ARCHITECTURE\.md|\bREADME\b")
-
-
-def narrow_defects(notebook: dict) -> list[str]:
-    """Where one notebook breaks the narrower rules of :data:`NARROW_CHAPTERS`."""
-    defects = []
-    for index, cell in enumerate(notebook["cells"]):
-        where = f"cell {index}"
-        if cell["cell_type"] == "markdown":
-            text = _text(cell["source"])
-        else:
-            text = json.dumps(cell.get("metadata", {}).get("mystnb", {}))  # the caption
-        defects += [f"{where}: bare CLAP beside a number: {m!r}"
-                    for m in BARE_CLAP_NUMBER.findall(text)]
-        defects += [f"{where}: names a repository file: {m!r}"
-                    for m in REPOSITORY_FILES.findall(text)]
-        for output in cell.get("outputs", []):
-            if output["output_type"] == "stream":
-                lines = _text(output["text"]).splitlines()
-            elif "text/plain" in output.get("data", {}) and len(output["data"]) == 1:
-                lines = _text(output["data"]["text/plain"]).splitlines()
-            else:
-                continue
-            defects += [f"{where}: an output line of {len(line)} characters: {line[:50]!r}"
-                        for line in lines if len(line) > NARROW_OUTPUT]
-    return defects
-
-
-@pytest.mark.parametrize("stem", NARROW_CHAPTERS)
-def test_first_chapters_are_narrow_and_name_each_clap(stem):
-    notebook = json.loads((BOOK / f"{stem}.ipynb").read_text(encoding="utf-8"))
-    defects = narrow_defects(notebook)
-    assert not defects, f"{stem}:\n" + "\n".join(defects)
-
-
-def test_narrow_defects_are_caught():
-    wide = {"output_type": "stream", "name": "stdout", "text": "x" * 89 + "\n"}
-    nb = {"cells": [_markdown("at 80 % CLAP {glue:text}`c4_x` of the frames; see "
-                              "`bench/bench_lines.py` and ARCHITECTURE.md"),
-                    _cell("print()", [wide])]}
-    defects = narrow_defects(nb)
-    assert [d.split(": ")[1] for d in defects] == [
-        "bare CLAP beside a number", "names a repository file", "names a repository file",
-        "names a repository file", "an output line of 89 characters"], defects
-    fine = {"cells": [_markdown("CLAP (paper) {glue:text}`x`; the library's bench"),
-                      _cell("print()", [{**wide, "text": "x" * 88}])]}
-    assert narrow_defects(fine) == []
 
 #: A role of the glossary: {term}`text <target>` or {term}`target`.
 TERM_ROLE = re.compile(r"\{term\}`(?:[^`<]*<([^`>]+)>|([^`]+))`")
@@ -387,13 +494,14 @@ def test_an_unlinked_first_use_is_caught():
 #: The decision guide and the front page speak to the reader about the subject: no pointers to
 #: the repository's files (a reader of the book has no README or bench folder), no "the
 #: project", and no typed wall-clock time (a time is glued, or a ratio measured in one run).
-SELF_TALK = re.compile(r"\bREADME\b|\bbench/|\bthe project\b|\d\s*ms\b", flags=re.IGNORECASE)
+FRONT_SELF_TALK = re.compile(r"\bREADME\b|\bbench/|\bthe project\b|\d\s*ms\b",
+                             flags=re.IGNORECASE)
 
 
 def test_the_front_pages_talk_about_the_subject():
     for name in FRONT_PAGES:
         text = (BOOK.parent / name).read_text(encoding="utf-8")
         prose = re.sub(r"```.*?```", "", text, flags=re.DOTALL)
-        assert not SELF_TALK.findall(prose), (name, SELF_TALK.findall(prose))
+        assert not FRONT_SELF_TALK.findall(prose), (name, FRONT_SELF_TALK.findall(prose))
         glued_ms = re.findall(r"\{glue(?::\w*)?\}`[^`]*`\s*ms\b", prose)
         assert not glued_ms, (name, glued_ms)
