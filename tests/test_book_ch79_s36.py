@@ -1,0 +1,134 @@
+"""Chapters 7-9 as a newcomer checks them against their own tables.
+
+* a table column of numbers holds numbers or a dash, never words ("found", "19 sequences",
+  "see (1)"): the words go to a note under the table;
+* a count the prose states is made on the values the table beside it prints (rounded first,
+  then counted): chapter 7's "below 3 %" against its table of errors per sequence;
+* the peers are named "OpenCV RANSAC", "OpenCV MAGSAC++" and "scikit-image RANSAC" in the
+  chapters' text, tables and printed lines (the claims text the experiments write is not the
+  chapters' own and is left out);
+* chapter 8 says which distance and budget the timed line fit uses, from ``fit_line``'s own
+  defaults, and figure 8.3 is measured on several seeds.
+"""
+
+from __future__ import annotations
+
+import json
+import re
+from pathlib import Path
+
+import pytest
+
+CHAPTERS = Path(__file__).resolve().parent.parent / "book" / "chapters"
+PAGES = ("05c_many_answers", "06_performance", "07_your_data")
+NUMBER = re.compile(r"^[+-]?\d+(\.\d+)?( / [+-]?\d+(\.\d+)?)?$")
+OLD_PEER_NAMES = re.compile(r"OpenCV's (RANSAC|MAGSAC\+\+)|MAGSAC\+\+ \(OpenCV\)|"
+                            r"scikit-image's `?ransac|(?<!OpenCV )MAGSAC\+\+ loop")
+CLAIMS_TEXT = re.compile(r"chapter_claims\(|verdict_lines\(")  # the experiments' own words
+
+
+def _text(value) -> str:
+    return "".join(value) if isinstance(value, list) else str(value)
+
+
+def _load(stem: str) -> dict:
+    return json.loads((CHAPTERS / f"{stem}.ipynb").read_text(encoding="utf-8"))
+
+
+def _outputs(cell) -> list[str]:
+    """A code cell's printed text and its Markdown results."""
+    shown = []
+    for o in cell.get("outputs", []):
+        if o["output_type"] == "stream":
+            shown.append(_text(o["text"]))
+        shown += [_text(o["data"][k]) for k in ("text/markdown",) if k in o.get("data", {})]
+    return shown
+
+
+def markdown_tables(text: str) -> list[list[list[str]]]:
+    """The Markdown tables in ``text``: rows of stripped cells, the header first."""
+    tables, current = [], []
+    for line in text.splitlines() + [""]:
+        if line.startswith("|") and line.rstrip().endswith("|"):
+            cells = [c.strip() for c in line.strip()[1:-1].split("|")]
+            if not all(re.fullmatch(r":?-+:?", c) for c in cells):
+                current.append(cells)
+        elif current:
+            tables.append(current)
+            current = []
+    return tables
+
+
+def word_cells(table: list[list[str]]) -> list[str]:
+    """Cells holding words in a column whose other cells are numbers (or dashes)."""
+    header, rows = table[0], table[1:]
+    bad = []
+    for k, name in enumerate(header):
+        column = [r[k] for r in rows if k < len(r)]
+        numeric = [c for c in column if NUMBER.match(c)]
+        if len(numeric) * 2 < len(column):  # a column of words (names, yes/no)
+            continue
+        bad += [f"{name!r}: {c!r}" for c in column if c != "-" and not NUMBER.match(c)]
+    return bad
+
+
+@pytest.mark.parametrize("stem", PAGES)
+def test_numeric_columns_hold_numbers_or_a_dash(stem):
+    bad = [cell for c in _load(stem)["cells"] if c["cell_type"] == "code"
+           for out in _outputs(c) for table in markdown_tables(out) for cell in word_cells(table)]
+    assert not bad, f"{stem}: words in a column of numbers: {bad}"
+
+
+def test_word_cells_catch_words_among_numbers():
+    table = markdown_tables("| method | mean | found |\n|---|---|---|\n| a | 5.0 | 2.4 |\n"
+                            "| b | 5.1 | 2.5 |\n| c | 7.0 | 3.0 |\n"
+                            "| Progressive-X | 6.6 | found |\n| d | - | 19 sequences |\n")[0]
+    assert word_cells(table) == ["'found': 'found'", "'found': '19 sequences'"]
+    assert word_cells([["set", "as many"], ["homogr", "no"], ["EVD", "yes"]]) == []
+
+
+@pytest.mark.parametrize("stem", PAGES)
+def test_peers_named_alike(stem):
+    found = []
+    for k, cell in enumerate(_load(stem)["cells"]):
+        if cell["cell_type"] == "markdown":
+            texts = [_text(cell["source"])]
+        elif CLAIMS_TEXT.search(_text(cell["source"])):
+            continue
+        else:
+            texts = _outputs(cell)
+        found += [f"cell {k}: {m.group(0)!r}" for t in texts for m in OLD_PEER_NAMES.finditer(t)]
+    assert not found, f"{stem}: {found}"
+
+
+def _glued(notebook: dict) -> dict[str, str]:
+    values = {}
+    for cell in notebook["cells"]:
+        for o in cell.get("outputs", []):
+            name = o.get("metadata", {}).get("scrapbook", {}).get("name")
+            if name:
+                plain = o["data"].get("application/papermill.record/text/plain")
+                values[name] = plain
+    return values
+
+
+def test_chapter7_count_below_3_is_made_on_the_printed_table():
+    nb = _load("05c_many_answers")
+    per_sequence = next(t for c in nb["cells"] if c["cell_type"] == "code"
+                        for out in _outputs(c) for t in markdown_tables(out)
+                        if t[0][0] == "sequence")
+    column = per_sequence[0].index("CLAP (the library's)")
+    printed = [float(row[column]) for row in per_sequence[1:]]
+    assert int(_glued(nb)["mm_n_below_3"]) == sum(v < 3 for v in printed)
+    prose = "".join(_text(c["source"]) for c in nb["cells"] if c["cell_type"] == "markdown")
+    assert "below 3 % on {glue:text}`mm_n_below_3`" in prose
+
+
+def test_chapter8_says_what_the_timed_line_fit_uses():
+    nb = _load("06_performance")
+    glued = _glued(nb)
+    prose = "".join(_text(c["source"]) for c in nb["cells"] if c["cell_type"] == "markdown")
+    for name in ("c6_line_metric", "c6_space_metric", "c6_line_budget"):
+        assert f"{{glue:text}}`{name}`" in prose, name
+    assert glued["c6_line_metric"] != glued["c6_space_metric"]  # the two timed distances
+    assert int(glued["c6_scale_seeds"]) > 1  # figure 8.3: medians over several seeds
