@@ -57,11 +57,20 @@ BARE_CLAP_NUMBER = re.compile(r"(?<!library's\s)\bCLAP(?!\s*\()[\s:]*(?:\{glue|\
                               r"[\d`][^|.;`]{0,12} for CLAP\b(?!\s*\()")
 #: Other names for the library's CLAP ("CLAP (the library's)"), and a synthetic pair's code name.
 OTHER_NAME = re.compile(r"\bdefault CLAP\b|CLAP \(library default\)|\br=0\.\d+ decoy=0")
+#: Other names for the peers, whose book names are "OpenCV RANSAC", "OpenCV MAGSAC++",
+#: "scikit-image RANSAC", "OpenCV point-set Hough" and "RANSAC (library) + polish": anywhere,
+#: the possessive and bracketed forms; in an output (a table, a legend's print), also the code
+#: identifiers, which the prose may quote once to say what is called.
+PEER_OTHER_NAME = re.compile(r"OpenCV's (?:RANSAC|MAGSAC\+\+)|MAGSAC\+\+ \(OpenCV\)|"
+                             r"scikit-image's `?ransac|\bskimage ransac\b")
+PEER_IDENTIFIER = re.compile(r"cv2\.RANSAC|cv2\.USAC_MAGSAC|cv2\.HoughLinesPointSet|"
+                             r"(?<!OpenCV )MAGSAC\+\+|(?<!\) )RANSAC \+ polish")
 REPOSITORY_FILES = re.compile(r"\bbench/|\bbench_\w+\.py|ARCHITECTURE\.md|\bREADME\b")
 #: Words about how the page was made rather than about its subject.
 SELF_TALK = re.compile(r"machine that built|\bcrippled\b|\bglued for\b|\bevery build\b|"
                        r"\bmake book\b|\bmake test\b|\bwe tried\b|\ban earlier version\b|"
-                       r"\bthis book was built\b", flags=re.IGNORECASE)
+                       r"\bthis book was built\b|when this page was built|regression test|"
+                       r"`test_\w+`|book's\s+`?glue|the\s+glue\b", flags=re.IGNORECASE)
 #: The first line of a worked solution: ``# 2. ...`` or ``# Exercise 2: ...``.
 SOLUTION = re.compile(r"#\s*(?:Exercise\s+)?(\d+)[.:]")
 EXERCISE = re.compile(r"^(\d+)\. ", flags=re.MULTILINE)
@@ -135,7 +144,10 @@ def _cell_defects(where: str, cell: dict) -> list[str]:
         defects.append(f"{where}: {len(blocks)} text outputs "
                        f"({', '.join(kind for kind, _ in blocks)})")
     if "chapter_claims(" not in source:  # the claims' generator has its own checks
-        defects += _words_defects(where + " output", "\n".join(t for _, t in blocks))
+        shown = "\n".join(t for _, t in blocks)
+        defects += _words_defects(where + " output", shown)
+        defects += [f"{where} output: a peer's code name: {m.group(0)!r}"
+                    for m in PEER_IDENTIFIER.finditer(shown)]
     return defects
 
 
@@ -144,6 +156,7 @@ def _words_defects(where: str, text: str) -> list[str]:
     return ([f"{where}: bare CLAP beside a number: {m!r}"
              for m in BARE_CLAP_NUMBER.findall(text)]
             + [f"{where}: another name: {m.group(0)!r}" for m in OTHER_NAME.finditer(text)]
+            + [f"{where}: another name: {m.group(0)!r}" for m in PEER_OTHER_NAME.finditer(text)]
             + [f"{where}: names a repository file: {m.group(0)!r}"
                for m in REPOSITORY_FILES.finditer(text)]
             + [f"{where}: says how the page was made: {m.group(0)!r}"
@@ -270,6 +283,30 @@ def test_the_checks_catch_each_defect():
                       _cell("print(v)", [_stream("CLAP (paper) 0.53 px; clap_densest\n")]),
                       _markdown("the library's CLAP\n{glue:text}`x` and the library's CLAP: 2")]}
     assert page_defects(fine) == []
+
+
+def test_a_peer_goes_by_its_book_name():
+    cells = [_markdown("OpenCV's RANSAC and scikit-image's `ransac`; calls `cv2.RANSAC`"),
+             _cell("print(t)", [_stream("| skimage ransac | 9.28 |\n| cv2.RANSAC | 1 |\n")]),
+             _cell("print(t)", [_stream("MAGSAC++ 0.4, RANSAC + polish 0.3\n")]),
+             _cell("show(chapter_claims(x))", [_stream("cv2.RANSAC\n")])]
+    assert [d.split(": ", 1)[1] for d in page_defects({"cells": cells})] == [
+        "another name: \"OpenCV's RANSAC\"", "another name: \"scikit-image's `ransac\"",
+        "another name: 'skimage ransac'", "a peer's code name: 'cv2.RANSAC'",
+        "a peer's code name: 'MAGSAC++'", "a peer's code name: 'RANSAC + polish'"]
+    fine = [_markdown("OpenCV RANSAC (`cv2.findHomography` with `cv2.RANSAC`)"),
+            _cell("print(t)", [_stream("OpenCV MAGSAC++ 0.4, RANSAC (library) + polish 0.3\n"
+                                       "| scikit-image RANSAC | 9.28 |\n")])]
+    assert page_defects({"cells": fine}) == []
+
+
+def test_talk_of_how_the_page_was_made_is_caught():
+    said = ["timed on the machine that built this book", "as `test_claims` checks",
+            "the regression test compares", "and the book's `glue`", "the glue keeps it",
+            "measured when this page was built"]
+    for text in said:
+        assert "how the page was made" in " ".join(page_defects({"cells": [_markdown(text)]}))
+    assert page_defects({"cells": [_markdown("glued values; a test of two proportions")]}) == []
 
 
 def test_every_exercise_needs_a_worked_solution_ending_in_a_sentence():

@@ -2,9 +2,6 @@
 
 Static checks on the stored notebooks:
 
-* the peers go by the names every chapter gives them ("OpenCV RANSAC", "OpenCV MAGSAC++",
-  "RANSAC (library) + polish"): no printed table, legend key or glued value says
-  ``cv2.RANSAC``, ``cv2.USAC_MAGSAC`` or a bare "RANSAC + polish";
 * the protocol's deviations from the paper are shown once, in the claims section;
 * chapter 5's "What reproduces" prints no verdict beside numbers from other data (the real-scene
   claim is judged on chapter 6's panorama sets, not on homogr), and takes the claims' titles from
@@ -24,8 +21,6 @@ import pytest
 
 BOOK = Path(__file__).resolve().parent.parent / "book" / "chapters"
 CH5, CH6 = BOOK / "05_homographies.ipynb", BOOK / "05b_stitching.ipynb"
-OLD_NAMES = re.compile(r"cv2\.RANSAC|cv2\.USAC_MAGSAC|(?<!\) )RANSAC \+ polish"
-                       r"|(?<!OpenCV )MAGSAC\+\+")
 DEVIATIONS = re.compile(r"\|\s*the paper( says)?\s*\|\s*here\s*\|\s*why\s*\|")
 
 
@@ -58,13 +53,6 @@ def _glued(nb: dict) -> dict:
     return out
 
 
-def old_peer_names(nb: dict) -> list[str]:
-    """Outputs that name a peer by its code identifier instead of its book name."""
-    claims = {i for i, c in enumerate(nb["cells"]) if "chapter_claims(" in _text(c["source"])}
-    return [f"cell {i}: {m.group(0)!r}" for i, text in _outputs(nb) if i not in claims
-            for m in OLD_NAMES.finditer(text)]
-
-
 def deviation_tables(nb: dict) -> tuple[int, int]:
     """Deviation tables shown (in the claims section, elsewhere on the page)."""
     inside = outside = 0
@@ -80,11 +68,6 @@ def deviation_tables(nb: dict) -> tuple[int, int]:
         else:
             outside += n
     return inside, outside
-
-
-@pytest.mark.parametrize("path", [CH5, CH6], ids=["ch5", "ch6"])
-def test_peers_go_by_their_book_names(path):
-    assert old_peer_names(_load(path)) == []
 
 
 @pytest.mark.parametrize("path", [CH5, CH6], ids=["ch5", "ch6"])
@@ -135,12 +118,6 @@ def test_the_break_is_the_defined_one():
 
 
 def test_the_checks_catch_each_defect():
-    stream = {"output_type": "stream", "name": "stdout", "text": "cv2.RANSAC  0.12\n"}
-    assert old_peer_names({"cells": [{"cell_type": "code", "source": "x",
-                                      "outputs": [stream]}]}) != []
-    ok = {"output_type": "stream", "name": "stdout", "text": "RANSAC (library) + polish 1\n"}
-    assert old_peer_names({"cells": [{"cell_type": "code", "source": "x",
-                                      "outputs": [ok]}]}) == []
     table = {"output_type": "display_data",
              "data": {"text/markdown": "| the paper | here | why |\n|---|---|---|"}}
     twice = {"cells": [{"cell_type": "code", "source": "x", "outputs": [table]},
