@@ -327,3 +327,21 @@ def test_blocks_and_decision_guide_name_a_control_that_did_not_decide_alike():
     from pathlib import Path
     guide = (Path(__file__).resolve().parents[1] / "book/choosing.md").read_text()
     assert '"did not decide"' in guide and "did not move" not in guide
+
+
+def test_every_claim_has_one_title_that_every_rendering_uses():
+    """The chapters import a claim's title (``claim_title``) instead of naming it again
+    (chapter 5's table named claims 4 and 6 otherwise than the front page)."""
+    import pytest
+
+    from clap_unified.reproduce import CLAIM_TITLES, claim_title
+
+    assert set(CLAIM_TITLES) == {c.key for c in CLAIMS}
+    assert len(set(CLAIM_TITLES.values())) == len(CLAIMS)
+    claims = evaluate_claims({**_outputs_2d((0.9, 0.9, 0.7), (0.9, 0.9, 0.6), (0.3,) * 3),
+                              **_outputs_3d(0.7, 0.7, 0.0)})
+    for c in claims:
+        assert c["title"] == claim_title(c["key"])
+    assert f"**{claim_title('2d_outliers')}.**" in chapter_claims("03_localization_2d")
+    with pytest.raises(ValueError, match="key"):
+        claim_title("stitching")
