@@ -1065,6 +1065,14 @@ def alternatives_text(entry: dict) -> str:
     return f"{n['differ']} of {n['total']} {noun} ({detail})"
 
 
+def _experiment_words(name: str) -> str:
+    """An experiment in words for the reader (its registered ``title``), not its key."""
+    from .registry import EXPERIMENTS
+
+    ex = EXPERIMENTS.get(name)
+    return ex.title if ex is not None else name.replace("_", " ")
+
+
 def evaluate_claims(outputs: dict, skipped: dict | None = None) -> list[dict]:
     """One dict per claim: the paper's words, the verdict and how far it can be trusted.
 
@@ -1099,7 +1107,8 @@ def evaluate_claims(outputs: dict, skipped: dict | None = None) -> list[dict]:
     for c in CLAIMS:
         ran = [e for e in c.experiments if e in outputs]
         data = [outputs[e]["data"] for e in ran]
-        data += [f"`{e}` not run: {skipped[e]}" for e in c.experiments if e in skipped]
+        data += [f"{_experiment_words(e)}: not run, {skipped[e]}" for e in c.experiments
+                 if e in skipped]
         deviations = list(c.deviations)
         for e in ran:
             deviations += [d for d in outputs[e].get("deviations", []) if d not in deviations]
@@ -1193,29 +1202,25 @@ def claim_block(entry: dict, shown: dict | None = None, ref: str = "") -> str:
     if entry.get("explanation"):
         verdict += f" Why: {entry['explanation']}"
     alternatives = entry.get("sensitivity", [])
-    if entry.get("depends_on"):
-        flips = [r for r in alternatives if r.get("kind") == "sensitivity"
-                 and r["change"] in entry["depends_on"]]
-        total = sum(r.get("kind") == "sensitivity" for r in alternatives)
+    count = alternatives_count(entry) if alternatives else None
+    if count and count["differ"]:
         by_verdict = {}
-        for r in flips:
-            by_verdict.setdefault(r["verdict"], []).append(r.get("name") or r["change"])
-        verdict += (f" The verdict depends on {len(flips)} of the {total} alternatives of the "
-                    f"protocol (the table below): "
+        for r in alternatives:
+            if r["verdict"] not in (entry["verdict"], "data unavailable"):
+                name = r.get("name") or r["change"]
+                if r.get("kind") == "extension":
+                    name += " (an extension)"
+                by_verdict.setdefault(r["verdict"], []).append(name)
+        verdict += (f" Under {alternatives_text(entry)} the rule reaches another verdict (the "
+                    f"table below): "
                     + "; ".join(f"{v} under {'; '.join(names)}" if len(names) == 1 else
                                 f"{v} under each of: {'; '.join(names)}"
                                 for v, names in by_verdict.items()) + ".")
-    other = [r for r in alternatives if r.get("kind") == "extension"
-             and r["verdict"] not in (entry["verdict"], "data unavailable")]
-    if other:
-        total = sum(r.get("kind") == "extension" for r in alternatives)
-        verdict += (f" {len(other)} of the package's {total} extensions "
-                    + ("reaches" if len(other) == 1 else "reach") + " another verdict; they "
-                    "change the setting, not the paper's protocol, so they do not change its "
-                    "verdict.")
+        if count["extension"][0]:
+            verdict += (" The extensions change the setting, not the paper's protocol, so "
+                        "they do not change its verdict.")
     lines += [verdict, ""]
-    experiments = ", ".join(f"`{e}`" for e in entry.get("experiments", []))
-    lines += [f"*Rule* (experiment {experiments}): {entry['rule']}.", "",
+    lines += [f"*Rule:* {entry['rule']}.", "",
               f"*Measured:* {entry['measured']}.", "",
               f"*Data:* {'; '.join(entry['data']) or '-'}."]
     protocols = list(dict.fromkeys(entry.get("protocol", [])))
@@ -1285,8 +1290,7 @@ def chapter_claims(chapter: str, claims: list | None = None) -> str:
         if e is None:
             reading = f" Read here as: {c.reading}." if c.reading else ""
             items.append(f"**{title}.** *The paper:* \"{c.words}\" ({c.section}).{reading} "
-                         f"*Rule* (experiment {', '.join(f'`{x}`' for x in c.experiments)}): "
-                         f"{c.rule}.\n")
+                         f"*Rule:* {c.rule}.\n")
         else:
             items.append(f"**{title}**\n\n" + claim_block(e, shown, f"*{title}*"))
     if not items:
@@ -1301,10 +1305,11 @@ def _counts(rows: list) -> str:
 
 
 def verdict_lines(claims: list, chapter: str | None = None) -> str:
-    """Two plain-text lines per claim of ``chapter`` (all claims when None): its title and
-    the verdict on the paper's protocol, then the verdicts of its alternatives and of its
-    controls, counted: what ``pytest --nbval`` compares in a chapter (the claim's block shows
-    each); every line fits the text column (95 characters).
+    """Three plain-text lines per claim of ``chapter`` (all claims when None): its title and
+    the verdict on the paper's protocol; the alternatives under which the rule reaches
+    another verdict (:func:`alternatives_text`, as every page counts them); the verdicts of
+    its alternatives and of its controls, counted: what ``pytest --nbval`` compares in a
+    chapter (the claim's block shows each); every line fits the text column (95 characters).
 
     Examples
     --------
@@ -1313,6 +1318,7 @@ def verdict_lines(claims: list, chapter: str | None = None) -> str:
     ...          "controls": [{"change": "a broken method", "verdict": "not reproduced"}]}
     >>> print(verdict_lines([claim]))
     CLAP wins: reproduced on the paper's protocol
+    another verdict under 1 of 2 alternatives (protocol alternatives only)
     alternatives: 1 reproduced, 1 partly reproduced; controls: 1 not reproduced
     """
     lines = []
@@ -1320,6 +1326,7 @@ def verdict_lines(claims: list, chapter: str | None = None) -> str:
         if chapter is not None and c["chapter"] != chapter:
             continue
         lines += [f"{c.get('title') or c['key']}: {c['verdict']} on the paper's protocol",
+                  f"another verdict under {alternatives_text(c)}",
                   f"alternatives: {_counts(c['sensitivity'])}; controls: "
                   f"{_counts(c['controls'])}"]
     return "\n".join(lines)

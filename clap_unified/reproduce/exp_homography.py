@@ -497,7 +497,7 @@ experiment("homography_synthetic",
            expected_seconds=(7.0, 70.0), version=2)(run_homography_synthetic)
 
 
-experiment("homography_vpg", "Image stitching S01-S12 on the real VPG data, when it is here",
+experiment("homography_vpg", "the paper's own VPG images (S01-S12)",
            quick={"sets": 4, "seeds": 2, "variants": QUICK_VARIANTS},
            full={"sets": None, "seeds": 5, "variant_seeds": 3}, datasets=("vpg",),
            optional=True,
