@@ -11,6 +11,7 @@ from .claims import (
     CLAIM_TITLES,
     CLAIMS,
     VERDICTS,
+    alternatives_count,
     alternatives_text,
     chapter_claims,
     claim_block,
@@ -23,6 +24,6 @@ from .registry import EXPERIMENTS, seed_for
 from .runner import MissingDataError, Reproduction, claims_markdown, reproduce, verdicts_markdown
 
 __all__ = ["CLAIMS", "CLAIM_TITLES", "EXPERIMENTS", "VERDICTS", "MissingDataError",
-           "Reproduction", "alternatives_text", "chapter_claims", "claim_block", "claim_title",
-           "claims_markdown", "describe_variant", "evaluate_claims", "reproduce", "seed_for",
-           "verdict_lines", "verdicts_markdown"]
+           "Reproduction", "alternatives_count", "alternatives_text", "chapter_claims",
+           "claim_block", "claim_title", "claims_markdown", "describe_variant", "evaluate_claims",
+           "reproduce", "seed_for", "verdict_lines", "verdicts_markdown"]

@@ -665,13 +665,12 @@ def run_stitching_real(params: dict, seed: int) -> dict:
                       "pairs": len(jobs)}
 
     rows, numbers = table(None)
-    out = {"data": "eleven real panorama sets (substitute for VPG S13-S36): parallax, no "
-                   "ground truth (the `stitching_sets` data); SIFT matches as input",
+    out = {"data": f"{len(sets)} real panorama sets (substitute for VPG S13-S36): parallax, "
+                   "no ground truth; SIFT matches as input",
            "protocol": PROTOCOL,
            "deviations": [*DEVIATIONS,
                           {"paper": "VPG S13-S36, real-world examples without ground truth",
-                           "here": "eleven real panorama sets with parallax (the `stitching_sets` "
-                                   "data), "
+                           "here": f"{len(sets)} real panorama sets with parallax, "
                                    f"images downscaled to {params['max_side']} px, SIFT "
                                    "matches with Lowe's ratio test",
                            "why": _SUBSTITUTE},
