@@ -212,16 +212,16 @@ def test_extensions_are_counted_apart_from_the_alternatives():
     assert _depends("not reproduced", ext + sens) == ["a budget"]
     block = claim_block(_entry(ext + sens, []))
     # the block counts both kinds apart and names the alternatives with another verdict
-    assert ("Under 4 of 5 alternatives (1 of 2 protocol alternatives, 3 of 3 extensions) the "
-            "rule reaches another verdict (the table below): reproduced under each of: "
-            "library CLAP 0 (an extension);") in block
+    assert ("4 of 5 alternatives reach another verdict (1 of 2 protocol alternatives, 3 of 3 "
+            "extensions), in the table below: reproduced under each of: library CLAP 0 (an "
+            "extension);") in block
     assert "so they do not change its verdict" in block
     # the front page's table counts them only where the protocol's verdict depends on them
     table = claims_markdown([{**_entry(ext, []), "key": "k", "title": "t"}], details=False)
     assert "alternatives" not in table
     table = claims_markdown([{**_entry(ext + sens, []), "key": "k", "title": "t"}],
                             details=False)
-    assert "another verdict under 4 of 5 alternatives (1 of 2 protocol" in table
+    assert "4 of 5 alternatives reach another verdict (1 of 2 protocol" in table
 
 
 def test_a_claim_without_controls_says_so_and_shared_notes_are_said_once():

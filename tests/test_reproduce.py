@@ -279,7 +279,7 @@ def test_variants_are_judged_by_the_same_rule_and_flips_are_named():
     assert {"paper": "MoCap", "here": "simulated", "why": "data unavailable"} in c["deviations"]
     assert all(d["why"].startswith(WHY) for d in c["deviations"])
     md = claims_markdown(list(claims.values()))
-    assert ("another verdict under 1 of 2 alternatives (protocol alternatives only)" in md
+    assert ("1 of 2 alternatives reaches another verdict (all protocol alternatives)" in md
             and "a perturbed CLAP" in md)
 
 

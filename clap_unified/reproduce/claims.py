@@ -784,9 +784,9 @@ HEADLINES = {
                     lambda n: f"tied pose and mirror in {n['pose_and_mirror_tied']:.0%} of "
                               f"{n['frames']} frames"),
     "several_answers": (CLAIM_TITLES["several_answers"],
-                        lambda n: f"mean error CLAP {n['clap_mean']:.1f} %, MAGSAC++ "
-                                  f"{n['magsac_mean']:.1f} %, Progressive-X "
-                                  f"{n['published_mean']:.1f} %"),
+                        lambda n: f"mean error CLAP {n['clap_mean']:.1f} %, the MAGSAC++ "
+                                  f"loop {n['magsac_mean']:.1f} %, the best published "
+                                  f"Progressive-X {n['published_mean']:.1f} %"),
 }
 
 #: Per claim whose headline explains its count: the column header of its alternatives' table
@@ -1038,9 +1038,9 @@ def alternatives_text(entry: dict) -> str:
     """The claim's alternatives that reach another verdict, counted in words: what every page
     prints (the front page's table, the claims blocks, the decision guide, the chapters).
 
-    ``"3 of 12 alternatives (3 of 9 protocol alternatives, 0 of 3 extensions)"``; the
-    brackets name the one kind when the claim has only one; ``"no alternative"`` when it
-    has none (:func:`alternatives_count`).
+    ``"3 of 12 alternatives reach another verdict (3 of 9 protocol alternatives, 0 of 3
+    extensions)"``; the brackets say "all" of the one kind when the claim has only one;
+    ``"no alternative was run"`` when it has none (:func:`alternatives_count`).
 
     Examples
     --------
@@ -1048,21 +1048,23 @@ def alternatives_text(entry: dict) -> str:
     ...     {"kind": "sensitivity", "verdict": "partly reproduced"},
     ...     {"kind": "sensitivity", "verdict": "reproduced"},
     ...     {"kind": "extension", "verdict": "reproduced"}]}
-    >>> alternatives_text(e)
-    '1 of 3 alternatives (1 of 2 protocol alternatives, 0 of 1 extension)'
-    >>> alternatives_text({"verdict": "reproduced", "sensitivity": e["sensitivity"][:2]})
-    '1 of 2 alternatives (protocol alternatives only)'
+    >>> print(alternatives_text(e))
+    1 of 3 alternatives reaches another verdict (1 of 2 protocol alternatives, 0 of 1 extension)
+    >>> print(alternatives_text({"verdict": "reproduced", "sensitivity": e["sensitivity"][1:2]}))
+    0 of 1 alternative reaches another verdict (a protocol alternative)
     """
     n = alternatives_count(entry)
     if not n["total"]:
-        return "no alternative"
+        return "no alternative was run"
     kinds = [(k, n[k]) for k in _ALTERNATIVE_WORDS if n[k][1]]
     if len(kinds) == 1:
-        detail = f"{_ALTERNATIVE_WORDS[kinds[0][0]][1]} only"
+        one, many = _ALTERNATIVE_WORDS[kinds[0][0]]
+        detail = f"all {many}" if n["total"] > 1 else ("an " if one[0] in "aeiou" else "a ") + one
     else:
         detail = ", ".join(f"{d} of {t} {_ALTERNATIVE_WORDS[k][t != 1]}" for k, (d, t) in kinds)
     noun = "alternative" if n["total"] == 1 else "alternatives"
-    return f"{n['differ']} of {n['total']} {noun} ({detail})"
+    verb = "reaches" if n["differ"] == 1 or n["total"] == 1 else "reach"
+    return f"{n['differ']} of {n['total']} {noun} {verb} another verdict ({detail})"
 
 
 def _experiment_words(name: str) -> str:
@@ -1208,11 +1210,11 @@ def claim_block(entry: dict, shown: dict | None = None, ref: str = "") -> str:
         for r in alternatives:
             if r["verdict"] not in (entry["verdict"], "data unavailable"):
                 name = r.get("name") or r["change"]
-                if r.get("kind") == "extension":
-                    name += " (an extension)"
+                if r.get("kind") == "extension" and count["sensitivity"][0]:
+                    name += " (an extension)"  # said apart only where both kinds differ
                 by_verdict.setdefault(r["verdict"], []).append(name)
-        verdict += (f" Under {alternatives_text(entry)} the rule reaches another verdict (the "
-                    f"table below): "
+        text = alternatives_text(entry)
+        verdict += (f" {text[0].upper()}{text[1:]}, in the table below: "
                     + "; ".join(f"{v} under {'; '.join(names)}" if len(names) == 1 else
                                 f"{v} under each of: {'; '.join(names)}"
                                 for v, names in by_verdict.items()) + ".")
@@ -1318,7 +1320,7 @@ def verdict_lines(claims: list, chapter: str | None = None) -> str:
     ...          "controls": [{"change": "a broken method", "verdict": "not reproduced"}]}
     >>> print(verdict_lines([claim]))
     CLAP wins: reproduced on the paper's protocol
-    another verdict under 1 of 2 alternatives (protocol alternatives only)
+    1 of 2 alternatives reaches another verdict (all protocol alternatives)
     alternatives: 1 reproduced, 1 partly reproduced; controls: 1 not reproduced
     """
     lines = []
@@ -1326,7 +1328,7 @@ def verdict_lines(claims: list, chapter: str | None = None) -> str:
         if chapter is not None and c["chapter"] != chapter:
             continue
         lines += [f"{c.get('title') or c['key']}: {c['verdict']} on the paper's protocol",
-                  f"another verdict under {alternatives_text(c)}",
+                  alternatives_text(c),
                   f"alternatives: {_counts(c['sensitivity'])}; controls: "
                   f"{_counts(c['controls'])}"]
     return "\n".join(lines)

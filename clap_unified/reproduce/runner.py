@@ -422,7 +422,7 @@ def claims_markdown(claims, details: bool = True) -> str:
         verdict = f"**{c['verdict']}**"
         if "verdict" in c and alternatives_count(c)["sensitivity"][0]:
             # the protocol's verdict depends on them: counted as every page counts them
-            verdict += f"; another verdict under {alternatives_text(c)}"
+            verdict += f"; {alternatives_text(c)}"
         lines.append(_row([i, c.get("title") or c["key"], verdict,
                            c.get("headline") or c["measured"]]))
     if details:
@@ -453,11 +453,11 @@ def verdicts_markdown(claims) -> str:
     ...          "controls": [{"verdict": "not reproduced", "reaches": "yes"}]}
     >>> header, _, row = verdicts_markdown([claim]).splitlines()
     >>> print(header)
-    | claim | on the paper's protocol | alternatives with another verdict | controls |
+    | claim | on the paper's protocol | alternatives | controls |
     >>> print(row.split(" | ")[2])
-    1 of 2 alternatives (protocol alternatives only): 1 not reproduced
+    1 of 2 alternatives reaches another verdict (all protocol alternatives): 1 not reproduced
     """
-    lines = ["| claim | on the paper's protocol | alternatives with another verdict | controls |",
+    lines = ["| claim | on the paper's protocol | alternatives | controls |",
              "|---|---|---|---|"]
     for c in claims:
         alt = c.get("sensitivity", [])
