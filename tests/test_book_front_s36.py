@@ -55,9 +55,6 @@ def test_the_guide_quotes_each_number_as_its_chapter_does():
         for chapter_fmt in re.findall(LOCAL.format(key=re.escape(key)), _prose(notebook)):
             assert _shown(glued[key], fmt) == _shown(glued[key], chapter_fmt or None), (
                 notebook, key, fmt, chapter_fmt)
-        # a number the chapter glues as a word is quoted as that word
-        assert f"{key}_word" not in glued, (
-            f"{notebook}::{key} has a word form ({key}_word) that the chapter prints")
 
 
 def _typed_numbers(markdown: str) -> list[str]:
