@@ -156,6 +156,12 @@ def test_rendered_claims_hold_no_identifiers_and_no_doubled_labels():
         assert not DOUBLED.search(page), DOUBLED.search(page)
     # the claim keys stay in claims.json, not on the page
     assert not any(c.key in _prose(pages[0] + pages[1]) for c in CLAIMS)
+    # nor the experiments' names, not even as code: an experiment not run is said in words
+    from clap_unified.reproduce import EXPERIMENTS
+
+    assert not [e for e in EXPERIMENTS for page in pages if e in page]
+    assert any("the paper's own VPG images (S01-S12): not run" in d
+               for c in claims for d in c["data"])
 
 
 def test_the_texts_the_experiments_report_are_words():
@@ -176,7 +182,7 @@ def test_the_verdict_lines_name_claims_by_title_count_the_rest_and_fit_the_colum
                               **_outputs_3d(0.7, 0.7, 0.0)})
     text = verdict_lines(claims)
     lines = text.splitlines()
-    assert len(lines) == 2 * len(claims)
+    assert len(lines) == 3 * len(claims)
     assert not _identifiers(text) and max(map(len, lines)) <= 95
     c = _claim(claims, "2d_outliers")
     assert f"{c['title']}: partly reproduced on the paper's protocol" in lines
@@ -205,12 +211,17 @@ def test_extensions_are_counted_apart_from_the_alternatives():
     assert _depends("not reproduced", ext) == []
     assert _depends("not reproduced", ext + sens) == ["a budget"]
     block = claim_block(_entry(ext + sens, []))
-    # the block names the alternatives the verdict depends on, in the intro's words
-    assert ("The verdict depends on 1 of the 2 alternatives of the protocol (the table "
-            "below): reproduced under a budget.") in block
-    assert "3 of the package's 3 extensions reach another verdict" in block
+    # the block counts both kinds apart and names the alternatives with another verdict
+    assert ("4 of 5 alternatives reach another verdict (1 of 2 protocol alternatives, 3 of 3 "
+            "extensions), in the table below: reproduced under each of: library CLAP 0 (an "
+            "extension);") in block
+    assert "so they do not change its verdict" in block
+    # the front page's table counts them only where the protocol's verdict depends on them
     table = claims_markdown([{**_entry(ext, []), "key": "k", "title": "t"}], details=False)
-    assert "alternatives differ" not in table
+    assert "alternatives" not in table
+    table = claims_markdown([{**_entry(ext + sens, []), "key": "k", "title": "t"}],
+                            details=False)
+    assert "4 of 5 alternatives reach another verdict (1 of 2 protocol" in table
 
 
 def test_a_claim_without_controls_says_so_and_shared_notes_are_said_once():
@@ -327,3 +338,68 @@ def test_blocks_and_decision_guide_name_a_control_that_did_not_decide_alike():
     from pathlib import Path
     guide = (Path(__file__).resolve().parents[1] / "book/choosing.md").read_text()
     assert '"did not decide"' in guide and "did not move" not in guide
+
+
+def test_every_claim_has_one_title_that_every_rendering_uses():
+    """The chapters import a claim's title (``claim_title``) instead of naming it again
+    (chapter 5's table named claims 4 and 6 otherwise than the front page)."""
+    import pytest
+
+    from clap_unified.reproduce import CLAIM_TITLES, claim_title
+
+    assert set(CLAIM_TITLES) == {c.key for c in CLAIMS}
+    assert len(set(CLAIM_TITLES.values())) == len(CLAIMS)
+    claims = evaluate_claims({**_outputs_2d((0.9, 0.9, 0.7), (0.9, 0.9, 0.6), (0.3,) * 3),
+                              **_outputs_3d(0.7, 0.7, 0.0)})
+    for c in claims:
+        assert c["title"] == claim_title(c["key"])
+    assert f"**{claim_title('2d_outliers')}.**" in chapter_claims("03_localization_2d")
+    with pytest.raises(ValueError, match="key"):
+        claim_title("stitching")
+
+
+def _counted(text: str) -> set:
+    """Every count of alternatives ``text`` prints: ``{(differ, total)}``."""
+    return {(int(a), int(b)) for a, b in
+            re.findall(r"\b(\d+) of (\d+) alternatives?\b", text.replace("\n", " "))}
+
+
+def test_every_page_counts_a_claims_alternatives_alike():
+    """The front page's table, the claims blocks (front page and chapters), the decision
+    guide's table and the chapters' verdict lines print one count per claim (claim 1 read
+    "3 of 9" on the front page, "3 of 12" in the decision guide, and 9 + 3 verdicts in
+    chapter 4)."""
+    from pathlib import Path
+
+    from clap_unified.reproduce import alternatives_text, verdict_lines
+    from clap_unified.reproduce.claims import _depends, alternatives_count
+
+    def rows(kind, verdicts):
+        return [{"key": f"{kind}{i}", "change": f"{kind} {i}", "kind": kind, "verdict": v,
+                 "headline": "x", "measured": "x"} for i, v in enumerate(verdicts)]
+
+    claims = evaluate_claims({**_outputs_2d((0.9, 0.9, 0.7), (0.9, 0.9, 0.6), (0.3,) * 3),
+                              **_outputs_3d(0.7, 0.7, 0.0), **_homogr()})
+    claims = [c for c in claims if c["verdict"] != "data unavailable"]
+    mixes = [rows("sensitivity", ["partly reproduced"] * 3 + ["not reproduced"] * 6)
+             + rows("extension", ["not reproduced"] * 3),
+             rows("extension", ["reproduced"] * 6 + ["partly reproduced"]),
+             rows("sensitivity", ["reproduced", "data unavailable"]), []]
+    for i, c in enumerate(claims):  # every claim, under several mixes of alternatives
+        c["sensitivity"] = mixes[i % len(mixes)] + c["sensitivity"]
+        c["depends_on"] = _depends(c["verdict"], c["sensitivity"])
+    assert len(claims) >= len(mixes)
+    for c in claims:
+        n = alternatives_count(c)
+        want = {(n["differ"], n["total"])} if n["total"] else set()
+        pages = {"front page": claims_markdown([c]), "decision guide": verdicts_markdown([c]),
+                 "block": claim_block(c), "chapter": chapter_claims(c["chapter"], [c]),
+                 "verdict lines": verdict_lines([c])}
+        for page, text in pages.items():
+            assert _counted(text) <= want, (c["key"], page, _counted(text), want)
+        for page in ("decision guide", "verdict lines"):
+            assert alternatives_text(c) in pages[page], (c["key"], page)
+    # the book's pages print the count only through these renderings
+    book = Path(__file__).resolve().parents[1] / "book"
+    for name in ("intro.md", "choosing.md"):
+        assert not _counted((book / name).read_text()), name

@@ -15,9 +15,10 @@ import re
 from collections.abc import Callable
 from dataclasses import dataclass
 
-__all__ = ["CLAIMS", "MARGIN", "VARIANT_KINDS", "VARIANT_NAMES", "VERDICTS", "WHY", "Claim",
-           "chapter_claims", "claim_block", "describe_variant", "deviation", "evaluate_claims",
-           "judge_variants", "rates_differ", "verdict_lines", "wilson_lower"]
+__all__ = ["CLAIMS", "CLAIM_TITLES", "MARGIN", "VARIANT_KINDS", "VARIANT_NAMES", "VERDICTS", "WHY",
+           "Claim", "alternatives_count", "alternatives_text", "chapter_claims", "claim_block",
+           "claim_title", "describe_variant", "deviation", "evaluate_claims", "judge_variants",
+           "rates_differ", "verdict_lines", "wilson_lower"]
 
 #: The four verdicts a claim can get, from best to no data.
 VERDICTS = ("reproduced", "partly reproduced", "not reproduced", "data unavailable")
@@ -722,37 +723,70 @@ def _seeds(numbers) -> str:
     return ", ".join(str(x) for x in seeds)
 
 
-#: Per claim: a short title and the one number that carries the verdict (from the judge's
+#: Per claim (its key), the short title every page names it by: the front page's table, the
+#: claims blocks, the decision guide and the chapters' own tables (:func:`claim_title`).
+CLAIM_TITLES = {
+    "3d_outliers": "3D: CLAP beats RANSAC above 50 % outliers",
+    "3d_spurious": "3D: RANSAC, not CLAP, converges to spurious poses",
+    "vpg_lie": "Homographies: CLAP closer to the ground truth",
+    "stitching_stable": "Stitching: CLAP steadier from seed to seed",
+    "vpg_real_sre": "Real panoramas: similar accuracy",
+    "stitching_outliers": "Stitching: more robust than outlier rejection",
+    "2d_outliers": "2D: robust against outliers",
+    "2d_symmetry": "2D: pose and mirror as separate clusters",
+    "several_answers": "Several structures: as good as multi-model methods",
+}
+
+
+def claim_title(key: str) -> str:
+    """The short title of the claim ``key`` (:data:`CLAIM_TITLES`), as every page names it.
+
+    Raises
+    ------
+    ValueError
+        When ``key`` names no claim.
+
+    Examples
+    --------
+    >>> claim_title("stitching_stable")
+    'Stitching: CLAP steadier from seed to seed'
+    """
+    if key not in CLAIM_TITLES:
+        raise ValueError(f"key: expected one of {', '.join(CLAIM_TITLES)}, got {key!r}")
+    return CLAIM_TITLES[key]
+
+
+#: Per claim: its title and the one number that carries the verdict (from the judge's
 #: ``numbers``), for the front page's one-line table; the full measurement stays in
 #: ``measured``.
 HEADLINES = {
-    "3d_outliers": ("3D: CLAP beats RANSAC above 50 % outliers",
+    "3d_outliers": (CLAIM_TITLES["3d_outliers"],
                     lambda n: _at_highest_ratio(n, ("clap", "ransac"), "correct")),
-    "3d_spurious": ("3D: RANSAC, not CLAP, converges to spurious poses", _most_wrong),
-    "vpg_lie": ("Homographies: CLAP closer to the ground truth",
+    "3d_spurious": (CLAIM_TITLES["3d_spurious"], _most_wrong),
+    "vpg_lie": (CLAIM_TITLES["vpg_lie"],
                 lambda n: _pairs_per_set(n, "closer", "farther", f"pairs closer to the truth "
                                          f"(by more than {CLOSER:g}x)")),
-    "stitching_stable": ("Stitching: CLAP steadier from seed to seed",
+    "stitching_stable": (CLAIM_TITLES["stitching_stable"],
                          lambda n: _pairs_per_set(
                              n, "CLAP_steadier", "RANSAC_steadier",
                              f"pairs varying less over {_seeds(n)} seeds (the distance to the "
                              f"truth spans a range {CLOSER:g}x narrower)")),
-    "vpg_real_sre": ("Real panoramas: similar accuracy",
+    "vpg_real_sre": (CLAIM_TITLES["vpg_real_sre"],
                      lambda n: f"similar on {n['similar']} of {n['pairs']} pairs "
                                f"({n['share_similar']:.0%})"),
-    "stitching_outliers": ("Stitching: more robust than outlier rejection",
+    "stitching_outliers": (CLAIM_TITLES["stitching_outliers"],
                            lambda n: f"pairs closer to the truth (by more than "
                                      f"{CLOSER:g}x): CLAP {n['closer']}, RANSAC "
                                      f"{n['farther']} of {n['pairs']}"),
-    "2d_outliers": ("2D: robust against outliers",
+    "2d_outliers": (CLAIM_TITLES["2d_outliers"],
                     lambda n: _at_highest_ratio(n, ("clap", "ransac", "hough"), "correct")),
-    "2d_symmetry": ("2D: pose and mirror as separate clusters",
+    "2d_symmetry": (CLAIM_TITLES["2d_symmetry"],
                     lambda n: f"tied pose and mirror in {n['pose_and_mirror_tied']:.0%} of "
                               f"{n['frames']} frames"),
-    "several_answers": ("Several structures: as good as multi-model methods",
-                        lambda n: f"mean error CLAP {n['clap_mean']:.1f} %, MAGSAC++ "
-                                  f"{n['magsac_mean']:.1f} %, Progressive-X "
-                                  f"{n['published_mean']:.1f} %"),
+    "several_answers": (CLAIM_TITLES["several_answers"],
+                        lambda n: f"mean error CLAP {n['clap_mean']:.1f} %, the MAGSAC++ "
+                                  f"loop {n['magsac_mean']:.1f} %, the best published "
+                                  f"Progressive-X {n['published_mean']:.1f} %"),
 }
 
 #: Per claim whose headline explains its count: the column header of its alternatives' table
@@ -952,6 +986,95 @@ def _depends(verdict: str, rows: list) -> list[str]:
             and r["verdict"] not in (verdict, "data unavailable")]
 
 
+#: What each kind of alternative is called where the alternatives are counted.
+_ALTERNATIVE_WORDS = {"sensitivity": ("protocol alternative", "protocol alternatives"),
+                      "extension": ("extension", "extensions")}
+
+
+def alternatives_count(entry: dict) -> dict:
+    """How many of a claim's alternatives reach another verdict than the paper's protocol.
+
+    The one count every page prints (:func:`alternatives_text`). An alternative is a
+    row of the claim's ``sensitivity``: a *protocol alternative* (a reasonable other
+    reading of the paper's protocol: a budget, a mode, a distance, a bandwidth; kind
+    ``"sensitivity"``) or an *extension* of the package (kind ``"extension"``: it changes
+    the setting, not the paper's protocol). Controls are not alternatives. An alternative
+    *differs* when its verdict is neither the protocol's nor "data unavailable".
+
+    Parameters
+    ----------
+    entry : dict
+        One claim of :func:`evaluate_claims` (its ``verdict`` and ``sensitivity``).
+
+    Returns
+    -------
+    dict
+        ``{"differ", "total", "sensitivity": (differ, total), "extension": (differ,
+        total)}``.
+
+    Examples
+    --------
+    >>> e = {"verdict": "reproduced", "sensitivity": [
+    ...     {"kind": "sensitivity", "verdict": "partly reproduced"},
+    ...     {"kind": "sensitivity", "verdict": "reproduced"},
+    ...     {"kind": "extension", "verdict": "data unavailable"}]}
+    >>> alternatives_count(e)["differ"], alternatives_count(e)["total"]
+    (1, 3)
+    """
+    if not isinstance(entry, dict) or "verdict" not in entry:
+        raise ValueError(f"entry: expected a claim of evaluate_claims, got {entry!r:.60}")
+    rows = entry.get("sensitivity") or []
+    out = {"differ": 0, "total": 0}
+    for kind in _ALTERNATIVE_WORDS:
+        mine = [r for r in rows if r.get("kind", "sensitivity") == kind]
+        differ = sum(r["verdict"] not in (entry["verdict"], "data unavailable") for r in mine)
+        out[kind] = (differ, len(mine))
+        out["differ"] += differ
+        out["total"] += len(mine)
+    return out
+
+
+def alternatives_text(entry: dict) -> str:
+    """The claim's alternatives that reach another verdict, counted in words: what every page
+    prints (the front page's table, the claims blocks, the decision guide, the chapters).
+
+    ``"3 of 12 alternatives reach another verdict (3 of 9 protocol alternatives, 0 of 3
+    extensions)"``; the brackets say "all" of the one kind when the claim has only one;
+    ``"no alternative was run"`` when it has none (:func:`alternatives_count`).
+
+    Examples
+    --------
+    >>> e = {"verdict": "reproduced", "sensitivity": [
+    ...     {"kind": "sensitivity", "verdict": "partly reproduced"},
+    ...     {"kind": "sensitivity", "verdict": "reproduced"},
+    ...     {"kind": "extension", "verdict": "reproduced"}]}
+    >>> print(alternatives_text(e))
+    1 of 3 alternatives reaches another verdict (1 of 2 protocol alternatives, 0 of 1 extension)
+    >>> print(alternatives_text({"verdict": "reproduced", "sensitivity": e["sensitivity"][1:2]}))
+    0 of 1 alternative reaches another verdict (a protocol alternative)
+    """
+    n = alternatives_count(entry)
+    if not n["total"]:
+        return "no alternative was run"
+    kinds = [(k, n[k]) for k in _ALTERNATIVE_WORDS if n[k][1]]
+    if len(kinds) == 1:
+        one, many = _ALTERNATIVE_WORDS[kinds[0][0]]
+        detail = f"all {many}" if n["total"] > 1 else ("an " if one[0] in "aeiou" else "a ") + one
+    else:
+        detail = ", ".join(f"{d} of {t} {_ALTERNATIVE_WORDS[k][t != 1]}" for k, (d, t) in kinds)
+    noun = "alternative" if n["total"] == 1 else "alternatives"
+    verb = "reaches" if n["differ"] == 1 or n["total"] == 1 else "reach"
+    return f"{n['differ']} of {n['total']} {noun} {verb} another verdict ({detail})"
+
+
+def _experiment_words(name: str) -> str:
+    """An experiment in words for the reader (its registered ``title``), not its key."""
+    from .registry import EXPERIMENTS
+
+    ex = EXPERIMENTS.get(name)
+    return ex.title if ex is not None else name.replace("_", " ")
+
+
 def evaluate_claims(outputs: dict, skipped: dict | None = None) -> list[dict]:
     """One dict per claim: the paper's words, the verdict and how far it can be trusted.
 
@@ -986,7 +1109,8 @@ def evaluate_claims(outputs: dict, skipped: dict | None = None) -> list[dict]:
     for c in CLAIMS:
         ran = [e for e in c.experiments if e in outputs]
         data = [outputs[e]["data"] for e in ran]
-        data += [f"`{e}` not run: {skipped[e]}" for e in c.experiments if e in skipped]
+        data += [f"{_experiment_words(e)}: not run, {skipped[e]}" for e in c.experiments
+                 if e in skipped]
         deviations = list(c.deviations)
         for e in ran:
             deviations += [d for d in outputs[e].get("deviations", []) if d not in deviations]
@@ -1080,29 +1204,25 @@ def claim_block(entry: dict, shown: dict | None = None, ref: str = "") -> str:
     if entry.get("explanation"):
         verdict += f" Why: {entry['explanation']}"
     alternatives = entry.get("sensitivity", [])
-    if entry.get("depends_on"):
-        flips = [r for r in alternatives if r.get("kind") == "sensitivity"
-                 and r["change"] in entry["depends_on"]]
-        total = sum(r.get("kind") == "sensitivity" for r in alternatives)
+    count = alternatives_count(entry) if alternatives else None
+    if count and count["differ"]:
         by_verdict = {}
-        for r in flips:
-            by_verdict.setdefault(r["verdict"], []).append(r.get("name") or r["change"])
-        verdict += (f" The verdict depends on {len(flips)} of the {total} alternatives of the "
-                    f"protocol (the table below): "
+        for r in alternatives:
+            if r["verdict"] not in (entry["verdict"], "data unavailable"):
+                name = r.get("name") or r["change"]
+                if r.get("kind") == "extension" and count["sensitivity"][0]:
+                    name += " (an extension)"  # said apart only where both kinds differ
+                by_verdict.setdefault(r["verdict"], []).append(name)
+        text = alternatives_text(entry)
+        verdict += (f" {text[0].upper()}{text[1:]}, in the table below: "
                     + "; ".join(f"{v} under {'; '.join(names)}" if len(names) == 1 else
                                 f"{v} under each of: {'; '.join(names)}"
                                 for v, names in by_verdict.items()) + ".")
-    other = [r for r in alternatives if r.get("kind") == "extension"
-             and r["verdict"] not in (entry["verdict"], "data unavailable")]
-    if other:
-        total = sum(r.get("kind") == "extension" for r in alternatives)
-        verdict += (f" {len(other)} of the package's {total} extensions "
-                    + ("reaches" if len(other) == 1 else "reach") + " another verdict; they "
-                    "change the setting, not the paper's protocol, so they do not change its "
-                    "verdict.")
+        if count["extension"][0]:
+            verdict += (" The extensions change the setting, not the paper's protocol, so "
+                        "they do not change its verdict.")
     lines += [verdict, ""]
-    experiments = ", ".join(f"`{e}`" for e in entry.get("experiments", []))
-    lines += [f"*Rule* (experiment {experiments}): {entry['rule']}.", "",
+    lines += [f"*Rule:* {entry['rule']}.", "",
               f"*Measured:* {entry['measured']}.", "",
               f"*Data:* {'; '.join(entry['data']) or '-'}."]
     protocols = list(dict.fromkeys(entry.get("protocol", [])))
@@ -1167,13 +1287,12 @@ def chapter_claims(chapter: str, claims: list | None = None) -> str:
     for c in CLAIMS:
         if c.chapter != chapter:
             continue
-        title = HEADLINES.get(c.key, (c.key, None))[0]
+        title = claim_title(c.key)
         e = judged.get(c.key)
         if e is None:
             reading = f" Read here as: {c.reading}." if c.reading else ""
             items.append(f"**{title}.** *The paper:* \"{c.words}\" ({c.section}).{reading} "
-                         f"*Rule* (experiment {', '.join(f'`{x}`' for x in c.experiments)}): "
-                         f"{c.rule}.\n")
+                         f"*Rule:* {c.rule}.\n")
         else:
             items.append(f"**{title}**\n\n" + claim_block(e, shown, f"*{title}*"))
     if not items:
@@ -1188,10 +1307,11 @@ def _counts(rows: list) -> str:
 
 
 def verdict_lines(claims: list, chapter: str | None = None) -> str:
-    """Two plain-text lines per claim of ``chapter`` (all claims when None): its title and
-    the verdict on the paper's protocol, then the verdicts of its alternatives and of its
-    controls, counted: what ``pytest --nbval`` compares in a chapter (the claim's block shows
-    each); every line fits the text column (95 characters).
+    """Three plain-text lines per claim of ``chapter`` (all claims when None): its title and
+    the verdict on the paper's protocol; the alternatives under which the rule reaches
+    another verdict (:func:`alternatives_text`, as every page counts them); the verdicts of
+    its alternatives and of its controls, counted: what ``pytest --nbval`` compares in a
+    chapter (the claim's block shows each); every line fits the text column (95 characters).
 
     Examples
     --------
@@ -1200,6 +1320,7 @@ def verdict_lines(claims: list, chapter: str | None = None) -> str:
     ...          "controls": [{"change": "a broken method", "verdict": "not reproduced"}]}
     >>> print(verdict_lines([claim]))
     CLAP wins: reproduced on the paper's protocol
+    1 of 2 alternatives reaches another verdict (all protocol alternatives)
     alternatives: 1 reproduced, 1 partly reproduced; controls: 1 not reproduced
     """
     lines = []
@@ -1207,6 +1328,7 @@ def verdict_lines(claims: list, chapter: str | None = None) -> str:
         if chapter is not None and c["chapter"] != chapter:
             continue
         lines += [f"{c.get('title') or c['key']}: {c['verdict']} on the paper's protocol",
+                  alternatives_text(c),
                   f"alternatives: {_counts(c['sensitivity'])}; controls: "
                   f"{_counts(c['controls'])}"]
     return "\n".join(lines)

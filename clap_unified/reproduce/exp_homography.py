@@ -497,7 +497,7 @@ experiment("homography_synthetic",
            expected_seconds=(7.0, 70.0), version=2)(run_homography_synthetic)
 
 
-experiment("homography_vpg", "Image stitching S01-S12 on the real VPG data, when it is here",
+experiment("homography_vpg", "the paper's own VPG images (S01-S12)",
            quick={"sets": 4, "seeds": 2, "variants": QUICK_VARIANTS},
            full={"sets": None, "seeds": 5, "variant_seeds": 3}, datasets=("vpg",),
            optional=True,
@@ -665,13 +665,12 @@ def run_stitching_real(params: dict, seed: int) -> dict:
                       "pairs": len(jobs)}
 
     rows, numbers = table(None)
-    out = {"data": "eleven real panorama sets (substitute for VPG S13-S36): parallax, no "
-                   "ground truth (the `stitching_sets` data); SIFT matches as input",
+    out = {"data": f"{len(sets)} real panorama sets (substitute for VPG S13-S36): parallax, "
+                   "no ground truth; SIFT matches as input",
            "protocol": PROTOCOL,
            "deviations": [*DEVIATIONS,
                           {"paper": "VPG S13-S36, real-world examples without ground truth",
-                           "here": "eleven real panorama sets with parallax (the `stitching_sets` "
-                                   "data), "
+                           "here": f"{len(sets)} real panorama sets with parallax, "
                                    f"images downscaled to {params['max_side']} px, SIFT "
                                    "matches with Lowe's ratio test",
                            "why": _SUBSTITUTE},

@@ -31,7 +31,7 @@ from pathlib import Path
 import numpy as np
 
 from . import progress as _progress
-from .claims import claim_block, evaluate_claims
+from .claims import alternatives_count, alternatives_text, claim_block, evaluate_claims
 from .data import missing_datasets
 from .registry import EXPERIMENTS, finite_or_none, seed_for
 
@@ -351,8 +351,7 @@ def reproduce(out, *, quick: bool = False, jobs: int = 1, scheduler=None, force:
             client.close()
     # the claims name what is missing; the full message (local paths) is in ``result.skipped``
     result.claims = _json_data(evaluate_claims(outputs, {
-        n: "data set " + ", ".join(d for d in EXPERIMENTS[n].datasets if d in missing)
-           + " not available here" for n in skipped}))
+        n: _not_here(n, missing) for n in skipped}))
     _write_report(out, outputs, result.claims, quick)
     result.seconds = time.perf_counter() - t0
     write_atomic(out / "timings.json", _dumps({"experiments": timings,
@@ -360,6 +359,23 @@ def reproduce(out, *, quick: bool = False, jobs: int = 1, scheduler=None, force:
     log(f"reproduce: finished in {result.seconds:.0f} s ({len(result.ran)} run, "
         f"{len(result.reused)} reused, {len(result.skipped)} skipped)")
     return result
+
+
+#: Why a data set's experiment did not run, in words (the claims' data lines say it).
+_NOT_HERE = {
+    "vpg": "the VPG images are not public and no copy is on this machine",
+    "homography": "the homogr and EVD image pairs are not on this machine",
+    "stitching_sets": "the real panorama sets are not on this machine",
+    "adelaidermf": "the AdelaideRMF sequences are not on this machine",
+}
+
+
+def _not_here(name: str, missing: dict) -> str:
+    """Why the experiment ``name`` did not run, in words: its missing data sets (and, for an
+    optional one, that its substitute stands in)."""
+    why = "; ".join(_NOT_HERE.get(d, f"the data set {d} is not on this machine")
+                    for d in EXPERIMENTS[name].datasets if d in missing)
+    return why + ("; the substitute stands in for it" if EXPERIMENTS[name].optional else "")
 
 
 # -------------------------------------------------------------------- report
@@ -404,11 +420,9 @@ def claims_markdown(claims, details: bool = True) -> str:
              "|---|---|---|---|"]
     for i, c in enumerate(claims, 1):
         verdict = f"**{c['verdict']}**"
-        if c.get("depends_on"):
-            n = len(c["depends_on"])
-            total = sum(r.get("kind") == "sensitivity" for r in c.get("sensitivity", []))
-            verdict += (f" ({n} of {total} alternatives "
-                        + ("differs)" if n == 1 else "differ)"))
+        if "verdict" in c and alternatives_count(c)["sensitivity"][0]:
+            # the protocol's verdict depends on them: counted as every page counts them
+            verdict += f"; {alternatives_text(c)}"
         lines.append(_row([i, c.get("title") or c["key"], verdict,
                            c.get("headline") or c["measured"]]))
     if details:
@@ -427,31 +441,30 @@ def _controls_cell(controls) -> str:
 
 
 def verdicts_markdown(claims) -> str:
-    """A short table of the verdicts: on the paper's protocol, how many alternatives change it
-    (and to what), and the controls' verdicts, each marked when it did not reach the other
-    verdict. The decision guide shows it.
+    """A short table of the verdicts: on the paper's protocol, how many alternatives reach
+    another verdict (:func:`~clap_unified.reproduce.alternatives_text`, counted as every page
+    counts them, and which verdicts), and the controls' verdicts, each marked when it did
+    not reach the other verdict. The decision guide shows it.
 
     Examples
     --------
     >>> claim = {"key": "k", "title": "CLAP wins", "verdict": "reproduced", "depends_on": [],
-    ...          "sensitivity": [{"verdict": "reproduced"}],
-    ...          "controls": [{"verdict": "not reproduced", "reaches": "yes"},
-    ...                       {"verdict": "reproduced", "reaches": "no"}]}
-    >>> print(verdicts_markdown([claim]))
-    | claim | on the paper's protocol | alternatives that change it | controls |
-    |---|---|---|---|
-    | CLAP wins | **reproduced** | none of 1 | not reproduced; reproduced (did not decide) |
-    <BLANKLINE>
+    ...          "sensitivity": [{"verdict": "reproduced"}, {"verdict": "not reproduced"}],
+    ...          "controls": [{"verdict": "not reproduced", "reaches": "yes"}]}
+    >>> header, _, row = verdicts_markdown([claim]).splitlines()
+    >>> print(header)
+    | claim | on the paper's protocol | alternatives | controls |
+    >>> print(row.split(" | ")[2])
+    1 of 2 alternatives reaches another verdict (all protocol alternatives): 1 not reproduced
     """
-    lines = ["| claim | on the paper's protocol | alternatives that change it | controls |",
+    lines = ["| claim | on the paper's protocol | alternatives | controls |",
              "|---|---|---|---|"]
     for c in claims:
         alt = c.get("sensitivity", [])
         flips = [r["verdict"] for r in alt if r["verdict"] != c["verdict"]
                  and r["verdict"] != "data unavailable"]
-        changed = (f"{len(flips)} of {len(alt)}: "
-                   + ", ".join(f"{flips.count(v)} {v}" for v in dict.fromkeys(flips))
-                   if flips else f"none of {len(alt)}")
+        changed = alternatives_text(c) + (": " + ", ".join(
+            f"{flips.count(v)} {v}" for v in dict.fromkeys(flips)) if flips else "")
         lines.append(_row([c.get("title") or c["key"], f"**{c['verdict']}**", changed,
                            _controls_cell(c.get("controls", []))]))
     return "\n".join(lines) + "\n"
