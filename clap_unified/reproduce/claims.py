@@ -274,14 +274,14 @@ def _judge_several(outputs):
     m = o["methods"]
     clap, magsac = m["clap_paper"], m["magsac"]
     published = min((p["mean"] for p in o["published"].values()), default=math.inf)
-    below = {"MAGSAC++ loop": clap["mean"] < magsac["mean"],
+    below = {"OpenCV MAGSAC++ loop": clap["mean"] < magsac["mean"],
              "Progressive-X (published)": clap["mean"] < published}
     verdict = ("reproduced" if all(below.values()) else
                "partly reproduced" if any(below.values()) else "not reproduced")
     seeds = f"{o['seeds']} seed{'s' * (o['seeds'] != 1)}"
     measured = (f"{o['sequences']} sequences x {seeds}: CLAP {clap['mean']:.1f} % "
                 f"mean / {clap['median']:.1f} % median ({clap['models']:.1f} models, true "
-                f"{clap['true_models']:.1f}, at {clap['threshold']:g} px); MAGSAC++ loop "
+                f"{clap['true_models']:.1f}, at {clap['threshold']:g} px); OpenCV MAGSAC++ loop "
                 f"{magsac['mean']:.1f} / {magsac['median']:.1f} % (at {magsac['threshold']:g} "
                 f"px); Progressive-X published {published:.1f} %")
     return verdict, measured, {"clap_mean": clap["mean"], "magsac_mean": magsac["mean"],
@@ -568,7 +568,7 @@ CLAIMS = [
           ("multimodel_adelaidermf",),
           "on AdelaideRMF (planes in two views), CLAP's clusters as the models, the number "
           "found by the method: reproduced when CLAP's mean misclassification error (each "
-          "method at its best single threshold) is below both OpenCV's MAGSAC++ in a "
+          "method at its best single threshold) is below both OpenCV MAGSAC++ in a "
           "remove-inliers loop measured in the same run and the best published Progressive-X "
           "mean; partly when below one of them; else not reproduced",
           _judge_several, "05c_many_answers",
@@ -784,8 +784,8 @@ HEADLINES = {
                     lambda n: f"tied pose and mirror in {n['pose_and_mirror_tied']:.0%} of "
                               f"{n['frames']} frames"),
     "several_answers": (CLAIM_TITLES["several_answers"],
-                        lambda n: f"mean error CLAP {n['clap_mean']:.1f} %, the MAGSAC++ "
-                                  f"loop {n['magsac_mean']:.1f} %, the best published "
+                        lambda n: f"mean error CLAP {n['clap_mean']:.1f} %, the OpenCV "
+                                  f"MAGSAC++ loop {n['magsac_mean']:.1f} %, the best published "
                                   f"Progressive-X {n['published_mean']:.1f} %"),
 }
 
@@ -841,7 +841,7 @@ NEEDED = {
                     "RANSAC's", "both halves failing"),
     "2d_symmetry": ("the pose and its mirror tied in at least 80 % of the frames",
                     "the pose and its mirror tied in fewer than half of the frames"),
-    "several_answers": ("CLAP's mean error below both the MAGSAC++ loop's and the published "
+    "several_answers": ("CLAP's mean error below both the OpenCV MAGSAC++ loop's and the published "
                         "Progressive-X's", "CLAP's mean error above both"),
 }
 

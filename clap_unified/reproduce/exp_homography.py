@@ -17,7 +17,7 @@
 
 The primary numbers follow the paper's protocol as written (:data:`PROTOCOL`):
 CLAP (``"clap_paper"``) and DLT + RANSAC (``"ransac"``) with the same
-re-estimation on the inliers and no polish for either; OpenCV's MAGSAC++ is
+re-estimation on the inliers and no polish for either; OpenCV MAGSAC++ is
 shown as a modern reference. Every output also states the protocol
 (``protocol``), where it departs from the paper's words and why
 (``deviations``), and the same tables under each reasonable alternative

@@ -22,7 +22,7 @@ that asks neighbouring matches to share a model: :mod:`clap_unified.coherence`):
 * ``multi_ransac``: MultiRANSAC (Zuliani et al., 2005), a set of at most six
   models fused with each batch of the shared hypotheses;
 * ``t_linkage``: T-Linkage on the same hypotheses as ``clap``;
-* ``magsac``: OpenCV's MAGSAC++ in a remove-inliers loop;
+* ``magsac``: OpenCV MAGSAC++ in a remove-inliers loop;
 * ``randomized_hough``: the accumulator's peaks (in ``bench/bench_adelaidermf.py``
   only, which times every method per sequence: left out of the experiment for
   its time, far behind the others in accuracy).
