@@ -860,11 +860,11 @@ def _control_reach(key: str, verdict: str, row: dict) -> tuple[str, str]:
     got = row["verdict"]
     target = {"reproduced": "not reproduced", "not reproduced": "reproduced"}.get(verdict)
     if target is None:  # a partly reproduced claim: any other verdict is a move
-        reach = "yes" if got not in (verdict, "data unavailable") else "no"
+        reach = "yes" if _differs(row, verdict) else "no"
         target = "another verdict"
     else:
         reach = ("yes" if got == target else
-                 "partly" if got not in (verdict, "data unavailable") else "no")
+                 "partly" if _differs(row, verdict) else "no")
     if reach == "yes":
         return reach, ""
     towards, away = NEEDED.get(key, ("the rule's other verdict", "the rule's other verdict"))
@@ -978,12 +978,26 @@ def _pairs(n: int) -> str:
     return "pair" if n == 1 else "pairs"
 
 
+def _differs(row: dict, verdict: str) -> bool:
+    """Whether an alternative or control ``row`` reaches another verdict than ``verdict``:
+    the one test behind every count and list of differing rows. A row whose data were not
+    available reaches no verdict, so it never differs.
+
+    Examples
+    --------
+    >>> _differs({"verdict": "partly reproduced"}, "reproduced")
+    True
+    >>> _differs({"verdict": "data unavailable"}, "reproduced")
+    False
+    """
+    return row["verdict"] not in (verdict, "data unavailable")
+
+
 def _depends(verdict: str, rows: list) -> list[str]:
     """The alternatives of the paper's protocol (sensitivity variants: not the package's
     extensions, which change the setting, nor controls) under which a verdict reads
     differently."""
-    return [r["change"] for r in rows if r["kind"] == "sensitivity"
-            and r["verdict"] not in (verdict, "data unavailable")]
+    return [r["change"] for r in rows if r["kind"] == "sensitivity" and _differs(r, verdict)]
 
 
 #: What each kind of alternative is called where the alternatives are counted.
@@ -1027,7 +1041,7 @@ def alternatives_count(entry: dict) -> dict:
     out = {"differ": 0, "total": 0}
     for kind in _ALTERNATIVE_WORDS:
         mine = [r for r in rows if r.get("kind", "sensitivity") == kind]
-        differ = sum(r["verdict"] not in (entry["verdict"], "data unavailable") for r in mine)
+        differ = sum(_differs(r, entry["verdict"]) for r in mine)
         out[kind] = (differ, len(mine))
         out["differ"] += differ
         out["total"] += len(mine)
@@ -1208,7 +1222,7 @@ def claim_block(entry: dict, shown: dict | None = None, ref: str = "") -> str:
     if count and count["differ"]:
         by_verdict = {}
         for r in alternatives:
-            if r["verdict"] not in (entry["verdict"], "data unavailable"):
+            if _differs(r, entry["verdict"]):
                 name = r.get("name") or r["change"]
                 if r.get("kind") == "extension" and count["sensitivity"][0]:
                     name += " (an extension)"  # said apart only where both kinds differ

@@ -31,7 +31,7 @@ from pathlib import Path
 import numpy as np
 
 from . import progress as _progress
-from .claims import alternatives_count, alternatives_text, claim_block, evaluate_claims
+from .claims import _differs, alternatives_count, alternatives_text, claim_block, evaluate_claims
 from .data import missing_datasets
 from .registry import EXPERIMENTS, finite_or_none, seed_for
 
@@ -363,7 +363,7 @@ def reproduce(out, *, quick: bool = False, jobs: int = 1, scheduler=None, force:
 
 #: Why a data set's experiment did not run, in words (the claims' data lines say it).
 _NOT_HERE = {
-    "vpg": "the VPG images are not public and no copy is on this machine",
+    "vpg": "the VPG images are not public",
     "homography": "the homogr and EVD image pairs are not on this machine",
     "stitching_sets": "the real panorama sets are not on this machine",
     "adelaidermf": "the AdelaideRMF sequences are not on this machine",
@@ -461,8 +461,7 @@ def verdicts_markdown(claims) -> str:
              "|---|---|---|---|"]
     for c in claims:
         alt = c.get("sensitivity", [])
-        flips = [r["verdict"] for r in alt if r["verdict"] != c["verdict"]
-                 and r["verdict"] != "data unavailable"]
+        flips = [r["verdict"] for r in alt if _differs(r, c["verdict"])]
         changed = alternatives_text(c) + (": " + ", ".join(
             f"{flips.count(v)} {v}" for v in dict.fromkeys(flips)) if flips else "")
         lines.append(_row([c.get("title") or c["key"], f"**{c['verdict']}**", changed,
