@@ -230,8 +230,11 @@ def test_a_claim_without_controls_says_so_and_shared_notes_are_said_once():
                  "headline": "x", "note": "it gave the paper's verdict"} for name in "ab"]
     block = claim_block(_entry([], controls))
     assert "*No control:*" not in block
-    assert block.count("it gave the paper's verdict") == 1
-    assert "*Controls that did not decide:* a; b: it gave the paper's verdict." in block
+    assert block.count("each gave the paper's verdict") == 1
+    # a note shared by two controls speaks of each, not of "it"
+    assert "*Controls that did not decide:* a; b: each gave the paper's verdict." in block
+    one = claim_block(_entry([], controls[:1]))
+    assert "*A control that did not decide:* a: it gave the paper's verdict." in one
 
 
 def test_every_alternative_and_control_has_a_name_in_words():
@@ -403,3 +406,8 @@ def test_every_page_counts_a_claims_alternatives_alike():
     book = Path(__file__).resolve().parents[1] / "book"
     for name in ("intro.md", "choosing.md"):
         assert not _counted((book / name).read_text()), name
+
+
+def test_no_seeds_column_when_every_row_ran_the_protocols_seeds():
+    page = chapter_claims("05_homographies", evaluate_claims(_homogr(variant_seeds=5)))
+    assert "seeds (the protocol" not in page

@@ -529,3 +529,15 @@ def test_the_evaluated_claims_keep_the_front_page_short():
     for key in ("3d_outliers", "3d_spurious"):
         c = next(c for c in evaluate_claims(_numbers_3d(0.95, 0.6, n=200)) if c["key"] == key)
         assert len(c["title"]) < MAX_TABLE_CELL and len(c["headline"]) < MAX_TABLE_CELL
+
+
+def test_full_runs_judge_every_alternative_on_the_protocols_seeds():
+    """The stability claim measures a spread over seeds, which narrows with fewer seeds: in the
+    full runs every alternative of the homography experiments runs the primary's seeds, so an
+    alternative's verdict is not read off fewer draws than the protocol's (issue 28)."""
+    from clap_unified.reproduce import EXPERIMENTS
+
+    for name in ("homography_synthetic", "homography_vpg", "homography_homogr"):
+        full = EXPERIMENTS[name].full
+        assert full["seeds"] >= 5, name
+        assert full.get("variant_seeds", full["seeds"]) == full["seeds"], name

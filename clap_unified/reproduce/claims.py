@@ -877,6 +877,25 @@ def _control_reach(key: str, verdict: str, row: dict) -> tuple[str, str]:
                    f"the rule can reach \"{target}\" here; that would have needed {needed}")
 
 
+def _each(note: str, n: int) -> str:
+    """A control's note (:func:`_control_reach`, said of one control: "it moved ...") said of
+    ``n`` controls that share it.
+
+    Examples
+    --------
+    >>> _each('it moved the verdict only to "partly": it shows that the rule can move', 2)
+    'each moved the verdict only to "partly": each shows that the rule can move'
+    >>> _each('it gave "x", as the protocol does, so it does not show that the rule can', 2)
+    'each gave "x", as the protocol does, so neither shows that the rule can'
+    """
+    if n == 1:
+        return note
+    for one, many in (("it moved ", "each moved "), (": it shows ", ": each shows "),
+                      ("it gave ", "each gave "), ("so it does not show ", "so neither shows ")):
+        note = note.replace(one, many, 1)
+    return note
+
+
 def _explain_2d(numbers: dict) -> str:
     """The 2D outlier claim's two halves in words, from its numbers."""
     robust, no_worse, best, top, behind = _halves_2d(numbers)
@@ -1250,7 +1269,7 @@ def claim_block(entry: dict, shown: dict | None = None, ref: str = "") -> str:
     for note, changes in notes.items():
         label = ("*A control that did not decide:*" if len(changes) == 1
                  else "*Controls that did not decide:*")
-        lines += ["", f"{label} {'; '.join(changes)}: {note}."]
+        lines += ["", f"{label} {'; '.join(changes)}: {_each(note, len(changes))}."]
     if not entry.get("controls") and entry.get("sensitivity") is not None:
         lines += ["", "*No control:* no perturbed method or data set was run under which this "
                       "rule must reach the other verdict, so the rule is not seen to be able "
@@ -1258,7 +1277,9 @@ def claim_block(entry: dict, shown: dict | None = None, ref: str = "") -> str:
     rows = alternatives + entry.get("controls", [])
     if rows:
         number = ROW_HEADLINES.get(entry.get("key"), ("the number",))[0]
-        seeds = entry.get("seeds") and any(r.get("seeds") for r in rows)
+        # a seeds column only where some row ran other seeds than the protocol
+        seeds = entry.get("seeds") and any(r.get("seeds") not in (None, "", entry["seeds"])
+                                           for r in rows)
         lines += ["", f"The alternatives and controls, each judged by the same rule (*{ROW_CLAP}*"
                       f" is CLAP as the row's change leaves it):", "",
                   "| what changed | kind | verdict | "

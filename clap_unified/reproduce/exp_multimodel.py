@@ -189,8 +189,9 @@ def run_multimodel(params: dict, seed: int) -> dict:
                 k: v for k, v in summary.items() if k != "per_sequence"}}}}
     return {
         "data": f"AdelaideRMF: {numbers['sequences']} homography sequences (johnsona and "
-                f"johnsonb missing) and {numbers['fundamental']['sequences']} fundamental-matrix "
-                f"sequences, {params['seeds']} seed{'s' * (params['seeds'] != 1)} per sequence",
+                f"johnsonb missing), {params['seeds']} seed{'s' * (params['seeds'] != 1)} per "
+                f"sequence; its {numbers['fundamental']['sequences']} fundamental-matrix "
+                f"sequences (motions) run too, an extension the rule does not read",
         "protocol": "every method through segment() with the same threshold sweep, minimum "
                     "support (10 matches and 2 %) and finish (nearest model, refit, then "
                     "spatial coherence by a graph cut); each method's best single "
