@@ -56,6 +56,22 @@ const collect = () => {
                     ? cap.querySelector('.caption-number').textContent.trim() : '',
             caption: cap ? cap.textContent.trim() : ''};
   });
+  // code, printed output and tables a reader sees (not folded: a folded cell, opened on
+  // purpose, may scroll) that scroll sideways: a part of them is cut off at the column's edge
+  const longest = el => Math.max(...el.textContent.split('\\n').map(l => l.length));
+  const shown = el => el.getBoundingClientRect().width > 0
+    && !el.closest('.tag_hide-input, .tag_hide-cell, .tag_hide-output');
+  const cutoff = [
+    ...[...document.querySelectorAll('.cell_input pre, .cell_output pre')]
+      .filter(p => shown(p) && p.scrollWidth > p.clientWidth + 1)
+      .map(p => (p.closest('.cell_input') ? 'code' : 'output') + ' line of '
+                + longest(p) + ' characters: ' + p.textContent.trim().slice(0, 50)),
+    ...[...document.querySelectorAll('main table')].filter(shown).filter(t => {
+      let p = t.parentElement;
+      while (p && p.tagName !== 'MAIN' && p.scrollWidth <= p.clientWidth + 1) p = p.parentElement;
+      return p && p.tagName !== 'MAIN';
+    }).map(t => 'table ' + Math.round(t.getBoundingClientRect().width) + ' px wide: '
+                + t.textContent.trim().slice(0, 50))];
   const scripts = [...document.querySelectorAll('script[src]')].map(s => s.src);
   const links = [...document.querySelectorAll('a[href]')].map(a => a.href);
   done({mathjax: typeof MathJax !== 'undefined' && !!MathJax.startup,
@@ -64,7 +80,7 @@ const collect = () => {
         containers: document.querySelectorAll('mjx-container').length,
         raw: ['$$', '\\\\(', '\\\\[', '\\\\begin{'].filter(d => visible.includes(d)),
         notes: (visible.match(/NBVAL|nbval|\\bTODO\\b|\\bFIXME\\b|\\bticket\\b/g) || []),
-        images, scripts, links, origin: location.origin});
+        images, scripts, links, cutoff, origin: location.origin});
 };
 const images = [...document.images].map(img => img.complete ? Promise.resolve()
   : new Promise(r => { img.onload = r; img.onerror = r; }));
@@ -162,6 +178,15 @@ def test_every_figure_loads_with_number_caption_and_alt(page, chapter):
         assert img["alt"].strip(), f"no alt text: {img['src']}"
         assert img["number"].startswith("Fig."), f"not a numbered figure: {img['src']}"
         assert len(img["caption"]) > len(img["number"]) + 20, f"no caption: {img['src']}"
+
+
+@pytest.mark.parametrize("path", [f"chapters/{c}" for c in CHAPTERS]
+                         + ["intro.html", "choosing.html", "glossary.html"])
+def test_nothing_a_reader_sees_is_cut_off_at_the_columns_edge(page, path):
+    """At a 1280 px window, no visible code, printed output or table scrolls sideways (the
+    stylesheet sizes code for 88 characters; folded cells may scroll)."""
+    cutoff = page(path)["cutoff"]
+    assert not cutoff, "cut off at the column's edge:\n" + "\n".join(cutoff)
 
 
 def test_figures_are_shrunk_to_the_column_the_legend_check_assumes(page):

@@ -196,6 +196,18 @@ def exercise_defects(cells: list[dict]) -> list[str]:
     return defects
 
 
+#: A markdown line that MyST reads as a comment and drops from the page: a sentence wrapped
+#: so that its next line starts with "%" ("up to 80\n% outliers") loses its end.
+COMMENT_LINE = re.compile(r"^[ \t]*%", flags=re.MULTILINE)
+
+
+def comment_defects(where: str, markdown: str) -> list[str]:
+    """Lines of ``markdown`` that MyST drops as comments."""
+    return [f"{where}: a line starts with '%', which MyST drops as a comment: "
+            f"{line.strip()[:60]!r}" for line in markdown.splitlines()
+            if COMMENT_LINE.match(line)]
+
+
 def page_defects(notebook: dict) -> list[str]:
     """What keeps one notebook (parsed JSON) from reading as a textbook page."""
     defects = []
@@ -203,15 +215,34 @@ def page_defects(notebook: dict) -> list[str]:
         where = f"cell {index}"
         if cell["cell_type"] == "markdown":
             defects += _words_defects(where, _text(cell["source"]))
+            defects += comment_defects(where, _text(cell["source"]))
         elif cell["cell_type"] == "code":
             caption = json.dumps(cell.get("metadata", {}).get("mystnb", {}))
             defects += _words_defects(where + " caption", caption)
             defects += _cell_defects(where, cell)
+            for output in cell.get("outputs", []):
+                defects += comment_defects(where + " output",
+                                           _text(output.get("data", {}).get("text/markdown", "")))
     return defects + exercise_defects(notebook["cells"])
 
 
 def _param(path: Path):
     return pytest.param(path, id=path.stem)
+
+
+def test_a_line_myst_drops_as_a_comment_is_a_defect():
+    dropped = _markdown("all strategies are accurate up to 80\n% outliers.")
+    assert any("'%'" in d for d in page_defects({"cells": [dropped]}))
+    table = _cell("show()", [{"output_type": "display_data",
+                              "data": {"text/markdown": "a share of 6.4\n% of them"}}])
+    assert any("'%'" in d for d in page_defects({"cells": [table]}))
+    kept = _markdown("all strategies are accurate up to 80 %\noutliers.")
+    assert not comment_defects("x", kept["source"])
+
+
+@pytest.mark.parametrize("page", sorted(p.name for p in BOOK.parent.glob("*.md")))
+def test_no_line_of_a_markdown_page_is_dropped_as_a_comment(page):
+    assert not comment_defects(page, (BOOK.parent / page).read_text(encoding="utf-8"))
 
 
 def test_the_chapters_are_found():
