@@ -8,7 +8,10 @@ Static checks on the stored notebooks:
   the claims' own list;
 * chapter 5 says nothing about the threads the page ran on;
 * the outlier sweep's break (glued in the text) is the one its printed table shows under the
-  definition the text gives: the lowest ratio at which fewer than half of the seeds succeed.
+  definition the text gives: the lowest ratio at which fewer than half of the seeds succeed;
+  a break that rests on exactly half of the seeds at a lower ratio is said to sit on the edge;
+* a ratio or share the prose cites beside a table agrees with the value the table prints
+  (within 5 %: "about 2000 times" beside 1610, or "at most 0.1 %" beside 1.3e-03, do not).
 """
 
 from __future__ import annotations
@@ -117,9 +120,97 @@ def test_the_break_is_the_defined_one():
         glued, ratios, clap)
 
 
+def _printed(nb: dict, marker: str) -> list[str]:
+    """The printed lines of the one code cell whose text output contains ``marker``."""
+    texts = [t for _, t in _outputs(nb) if marker in t]
+    assert len(texts) == 1, (marker, len(texts))
+    return texts[0].splitlines()
+
+
+def _number(glued: dict, name: str) -> float:
+    return float(glued[name].strip("'\""))
+
+
+#: (glued name, the table's header, its row, which number of the row, scale): the prose's value
+#: beside a table's
+PROSE_BESIDE_TABLE = [
+    ("pixel_vs_linear", "/ lie_linear", "exact Lie, pixel frame", -1, 1),
+    ("rel_max_pct", "median relative difference", "median relative difference", -1, 100),
+    ("cand_time_x", "/ 100 candidates", "800 ", -1, 1),
+    ("r_h_clap", "homogr [ms]", "CLAP (paper) ", 1, 1),  # its homogr "/ OpenCV RANSAC"
+    ("r_e_clap", "homogr [ms]", "CLAP (paper) ", 3, 1),  # its EVD "/ OpenCV RANSAC"
+]
+NUMBER = re.compile(r"(?<![\w.])\d+(?:\.\d+)?(?:e[-+]?\d+)?")
+
+
+def rounding_defects(nb: dict, tol: float = 0.05) -> list[str]:
+    """Prose values (glued) more than ``tol`` away from the value the table beside prints
+    (``rel_max_pct`` is a percentage of a printed fraction: 1.3e-03 is 0.13 %)."""
+    glued, defects = _glued(nb), []
+    for name, header, row, k, scale in PROSE_BESIDE_TABLE:
+        line = next(line for line in _printed(nb, header) if line.lstrip().startswith(row))
+        printed = scale * float(NUMBER.findall(line.lstrip()[len(row):])[k])
+        prose = _number(glued, name)
+        if abs(prose - printed) > tol * abs(printed):
+            defects.append(f"{name}: the prose says {prose:g}, the table {printed:g}")
+    return defects
+
+
+def test_prose_rounding_agrees_with_the_tables():
+    assert rounding_defects(_load(CH5)) == []
+
+
+def edge_defects(nb: dict) -> list[str]:
+    """Breaks of the sweep that rest on exactly half of the seeds at a lower ratio, unsaid.
+
+    At a ratio below a method's break where exactly half of the seeds succeed, the break sits
+    on the edge of its definition (one seed fewer, and it would be there): the glued sentence
+    ``sweep_edge``, cited beside the definition, must name the method, the ratio and say so."""
+    ratios, rates = _sweep_table(nb)
+    said = _glued(nb).get("sweep_edge", "")
+    cited = any("{glue:text}`sweep_edge`" in _text(c["source"]) for c in nb["cells"]
+                if c["cell_type"] == "markdown")
+    defects = []
+    for method, rate in rates.items():
+        broke = next((i for i, v in enumerate(rate) if v < 0.5), len(rate))
+        for r, v in zip(ratios[:broke], rate[:broke], strict=True):
+            if v == 0.5 and not (cited and f"At {r} % {method} succeeds" in said
+                                 and "exactly half" in said):
+                defects.append(f"{method}: exactly half of the seeds at {r} %, not said")
+    return defects
+
+
+def test_a_break_on_the_edge_is_said():
+    assert edge_defects(_load(CH5)) == []
+
+
 def test_the_checks_catch_each_defect():
     table = {"output_type": "display_data",
              "data": {"text/markdown": "| the paper | here | why |\n|---|---|---|"}}
     twice = {"cells": [{"cell_type": "code", "source": "x", "outputs": [table]},
                        {"cell_type": "code", "source": "chapter_claims(y)", "outputs": [table]}]}
     assert deviation_tables(twice) == (1, 1)
+    # the prose's rounding: one figure of 1404 ("about 1000") and of 0.13 % ("0.1 %") disagree
+    nb = _load(CH5)
+    assert rounding_defects(nb) == []
+    for name, old in (("pixel_vs_linear", "1000"), ("rel_max_pct", "0.1")):
+        for cell in nb["cells"]:
+            for o in cell.get("outputs", []):
+                if o.get("metadata", {}).get("scrapbook", {}).get("name") == name:
+                    o["data"]["application/papermill.record/text/plain"] = old
+    assert [d.split(":")[0] for d in rounding_defects(nb)] == ["pixel_vs_linear", "rel_max_pct"]
+    # a break on exactly half of the seeds (CLAP (paper) at 70 %), unsaid and then said
+    table = ("method               50%   70%   80%\n"
+             "CLAP (paper)         0.9   0.5   0.1\n"
+             "OpenCV RANSAC        1.0   1.0   0.6\n")
+    sweep = {"cell_type": "code", "source": "SWEEP = {",
+             "outputs": [{"output_type": "stream", "text": table}]}
+    said = {"output_type": "display_data", "metadata": {"scrapbook": {"name": "sweep_edge"}},
+            "data": {"application/papermill.record/text/plain":
+                     "'At 70 % CLAP (paper) succeeds in 5 of 10 seeds: exactly half, ...'"}}
+    text = {"cell_type": "markdown", "source": "It breaks at 80 %."}
+    assert edge_defects({"cells": [sweep, text]}) == [
+        "CLAP (paper): exactly half of the seeds at 70 %, not said"]
+    cited = {"cell_type": "markdown", "source": "It breaks at 80 %. {glue:text}`sweep_edge`"}
+    glue_cell = {"cell_type": "code", "source": "", "outputs": [said]}
+    assert edge_defects({"cells": [sweep, glue_cell, cited]}) == []
