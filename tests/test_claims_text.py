@@ -411,3 +411,33 @@ def test_every_page_counts_a_claims_alternatives_alike():
 def test_no_seeds_column_when_every_row_ran_the_protocols_seeds():
     page = chapter_claims("05_homographies", evaluate_claims(_homogr(variant_seeds=5)))
     assert "seeds (the protocol" not in page
+
+
+def _real(similar: int, pairs: int = 21) -> dict:
+    rows = []
+    for k in range(pairs):
+        far = 1.0 if k < similar else 9.0  # RANSAC's error on a pair that is not similar
+        rows += [{"pair": f"p{k}", "method": "CLAP", "sre_common_px": 1.0, "inlier_ratio": 0.5},
+                 {"pair": f"p{k}", "method": "RANSAC", "sre_common_px": far,
+                  "inlier_ratio": 0.5}]
+    numbers = {"median_sre_common": {"CLAP": 1.0, "RANSAC": 1.0},
+               "median_inlier_ratio": {"CLAP": 0.5, "RANSAC": 0.5}}
+    return {"stitching_real": {"tables": {"sre": rows}, "numbers": numbers}}
+
+
+def test_a_verdict_one_pair_would_change_says_it_is_on_the_edge():
+    from clap_unified.reproduce.claims import _judge_real
+
+    # 15 of 21: the Wilson lower bound is 0.5004, just above 0.5; 14 of 21 would not be
+    verdict, measured, numbers = _judge_real(_real(15))
+    assert verdict == "reproduced"
+    assert 'on the edge of the rule: one pair fewer would read "partly reproduced"' in measured
+    assert "on the edge" in _claim_headline("vpg_real_sre", numbers)
+    verdict, measured, numbers = _judge_real(_real(19))
+    assert verdict == "reproduced" and "edge" not in measured and not numbers["edge"]
+
+
+def _claim_headline(key, numbers):
+    from clap_unified.reproduce.claims import HEADLINES
+
+    return HEADLINES[key][1](numbers)

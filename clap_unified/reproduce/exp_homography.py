@@ -131,7 +131,7 @@ VARIANTS = (
             "sensitivity", {"polish": True}),
     Variant("clap_densest", "CLAP by another reading of the paper's words (first-order "
             "distance, trimming inside the densest cluster, polish for CLAP only); RANSAC as "
-            "in the primary", "sensitivity",
+            "in the primary (unequal: RANSAC gets no polish)", "sensitivity",
             {"method": "clap_densest"}),
     Variant("lie_linear", "CLAP clusters by the first-order distance "
             "(||Hn1^-1 Hn2 - I||_F + ||Hn2^-1 Hn1 - I||_F) / 2 instead of the logarithm",
