@@ -113,3 +113,68 @@ def test_chapter8_says_what_the_timed_line_fit_uses():
         assert f"{{glue:text}}`{name}`" in prose, name
     assert glued["c6_line_metric"] != glued["c6_space_metric"]  # the two timed distances
     assert int(glued["c6_scale_seeds"]) > 1  # figure 8.3: medians over several seeds
+
+
+def _cell_text(notebook: dict, starts: str) -> str:
+    """The printed text of the code cell whose source starts with ``starts``."""
+    cell = next(c for c in notebook["cells"] if c["cell_type"] == "code"
+                and _text(c["source"]).startswith(starts))
+    return "".join(_outputs(cell))
+
+
+def exercise2_checks(table: str, answer: str) -> list[str]:
+    """What chapter 7's exercise 2 answer must say beside its table of seeds: the count of
+    seeds on which one model holds more than half of the smaller plane (made on the printed
+    table), how many clusters the hypotheses make, and that 'found' is that loose test."""
+    lines = [line.split() for line in table.splitlines() if line.strip()]
+    n_small = int(re.search(r"\(of (\d+)\)", table).group(1))
+    rows = [[int(v) for v in line] for line in lines[1:]]
+    found = sum(row[2] > n_small / 2 for row in rows)
+    answer = " ".join(answer.split())
+    problems = []
+    if f"found on {found} of {len(rows)} seeds" not in answer:
+        problems.append("count")
+    if not re.search(r"make [\d to]+ clusters", answer):
+        problems.append("clusters")
+    if "loose test" not in answer:
+        problems.append("found")
+    return problems
+
+
+def test_chapter7_exercise2_says_why_uniform_samples_find_the_plane():
+    """The answer said the smaller plane is found on 3 of 5 seeds with 0 all-on-plane samples,
+    and not why: every cluster is one hypothesis, and 'found' is more than half in one model."""
+    nb = _load("05c_many_answers")
+    table = _cell_text(nb, "# 2. uniform samples")
+    answer = _cell_text(nb, "# the answer, from the two tables above")
+    assert not exercise2_checks(table, answer), exercise2_checks(table, answer)
+
+
+def test_chapter8_explains_what_figure_8_3_shows():
+    """Figure 8.3: the densest-cluster reading flat in N, the crossing of the two time lines,
+    and a memory slope of 0.21 beside 3 -> 49 MB, each explained from computed numbers."""
+    nb = _load("06_performance")
+    glued = _glued(nb)
+    prose = "".join(_text(c["source"]) for c in nb["cells"] if c["cell_type"] == "markdown")
+    for name in ("c6_cross_words", "c6_slope_n_paper", "c6_slope_n_clap", "c6_mem_lo",
+                 "c6_mem_big_ratio", "c6_mem_big_slope"):
+        assert f"{{glue:text}}`{name}" in prose, name
+    printed = [float(v) for v in re.findall(
+        r"peak memory ([\d.]+) MB", _cell_text(nb, 'big = scaling_runs('))]
+    assert len(printed) == 2
+    # the ratio in the text agrees with the two printed peaks (to their rounding)
+    lo = (printed[1] - 0.05) / (printed[0] + 0.05)
+    hi = (printed[1] + 0.05) / (printed[0] - 0.05)
+    assert lo - 0.5 <= float(glued["c6_mem_big_ratio"]) <= hi + 0.5, (glued, printed)
+
+
+def test_the_chapter7_9_checks_catch_the_old_text():
+    table = ("seed planes smaller plane in one model (of 23) other matches in it clusters\n"
+             "   0      2        17        1      998\n   1      2         12        4   1000\n"
+             "   4      1         0        50   1000\n")
+    old = ("The smaller plane is found on 2 of 3 seeds with uniform samples, which held 0 "
+           "all-on- that-plane samples of 1000 above (local samples: 55).")
+    assert exercise2_checks(table, old) == ["clusters", "found"]
+    new = ("The smaller plane is found on 2 of 3 seeds, although ... make 998 to 1000 "
+           "clusters, nearly one each ... And 'found' is a loose test, more than half")
+    assert exercise2_checks(table, new) == []

@@ -85,3 +85,70 @@ def test_each_page_says_once_which_data_stands_in_for_the_paper_s():
         assert len(real) == 1, (page, "S13-S36 named once")
         assert re.search(r"S13-S36[^.;]*real panoramas?[^.;]*only", text, flags=re.I), page
         assert re.search(r"S01-S12[^;]*synthetic[^;]*homogr", text), page
+
+
+#: A chapter number or a list of them in prose: "chapter 4", "chapters 1, 2 and 9".
+CHAPTER_LIST = re.compile(r"\b[Cc]hapters? (\d+(?:(?:, | and )\d+)*)")
+LIBRARY_LABEL = "CLAP (the library's)"
+
+
+def _chapter_order() -> list[str]:
+    """The chapter notebooks in the order (and numbering) of the table of contents."""
+    toc = (BOOK / "_toc.yml").read_text(encoding="utf-8")
+    return re.findall(r"^\s*- file: chapters/(\S+)\s*$", toc, flags=re.MULTILINE)
+
+
+def chapters_labelling_library_clap() -> set[int]:
+    """Chapters whose code names a method "CLAP (the library's)" (tables, legends): the
+    chapters that run the library's own CLAP."""
+    found = set()
+    for number, stem in enumerate(_chapter_order(), start=1):
+        nb = json.loads((BOOK / "chapters" / f"{stem}.ipynb").read_text(encoding="utf-8"))
+        if any(LIBRARY_LABEL in "".join(c["source"]) for c in nb["cells"]
+               if c["cell_type"] == "code"):
+            found.add(number)
+    return found
+
+
+def library_clap_sentence(markdown: str) -> str:
+    """The front page's sentence that introduces the term CLAP (the library's)."""
+    text = " ".join(markdown.split())
+    sentences = re.split(r"(?<=\.)\s+(?=[A-Z*])", text)
+    return next(s for s in sentences if "{term}`CLAP (the library's)`" in s)
+
+
+def chapters_named(sentence: str) -> set[int]:
+    return {int(n) for m in CHAPTER_LIST.finditer(sentence)
+            for n in re.findall(r"\d+", m.group(1))}
+
+
+def test_front_page_names_every_chapter_that_runs_the_library_s_clap():
+    """The front page said only chapters 7 and 8 measure CLAP (the library's), while chapters
+    1, 2, 4 (point clouds) and 9 run it too."""
+    sentence = library_clap_sentence((BOOK / "intro.md").read_text(encoding="utf-8"))
+    assert chapters_named(sentence) == chapters_labelling_library_clap(), sentence
+    assert "chart distance" in sentence and "align_correspondences" in sentence, sentence
+
+
+def toc_part_of(file: str) -> dict:
+    import yaml
+
+    toc = yaml.safe_load((BOOK / "_toc.yml").read_text(encoding="utf-8"))
+    return next(p for p in toc["parts"]
+                if any(c.get("file") == file for c in p.get("chapters", [])))
+
+
+def test_the_decision_guide_is_not_numbered_as_a_chapter():
+    """The guide sat in a numbered part after chapter 9, so its headings read "10.1 The
+    short answer", as if it were a tenth chapter."""
+    assert not toc_part_of("choosing").get("numbered", False)
+    assert toc_part_of("chapters/07_your_data").get("numbered", False)
+
+
+def test_the_front_page_checks_catch_the_old_text():
+    old = ("The claims name CLAP as the chapters do: *{term}`CLAP (paper)`* is CLAP run as the "
+           "paper describes it, and chapters 7 and 8 also measure the library's own defaults, "
+           "*{term}`CLAP (the library's)`*. The chapters show each experiment in depth: 2D "
+           "localization in chapter 3.")
+    assert chapters_named(library_clap_sentence(old)) == {7, 8}
+    assert chapters_labelling_library_clap() >= {1, 2, 4, 7, 8, 9}

@@ -93,12 +93,21 @@ def about(ratio: float):
 
 
 def as_long(ratio: float, than: str) -> str:
-    """A time ratio in words, to :func:`about`'s one figure ("about as long as" at 1).
+    """A time ratio in words: "about as long as" only where the ratio is 1 to two figures
+    (0.95 to 1.05); from 1.05 up to 10 to two figures ("about 1.3 times", since one figure
+    would call 1.26 "as long as"); elsewhere to :func:`about`'s one figure.
 
     Examples
     --------
-    >>> as_long(1.3, "RANSAC"), as_long(0.62, "RANSAC"), as_long(118.0, "OpenCV")
-    ('about as long as RANSAC', 'about 0.6 times as long as RANSAC', 'about 100 times as long as OpenCV')
+    >>> as_long(1.02, "RANSAC"), as_long(1.26, "RANSAC")
+    ('about as long as RANSAC', 'about 1.3 times as long as RANSAC')
+    >>> as_long(0.62, "RANSAC")
+    'about 0.6 times as long as RANSAC'
+    >>> as_long(118.0, "OpenCV")
+    'about 100 times as long as OpenCV'
     """
-    figure = about(ratio)
-    return f"about as long as {than}" if figure == 1 else f"about {figure} times as long as {than}"
+    ratio = float(ratio)
+    if round(ratio, 1) == 1.0:
+        return f"about as long as {than}"
+    figure = f"{float(f'{ratio:.2g}'):g}" if 1 <= ratio < 10 else str(about(ratio))
+    return f"about {figure} times as long as {than}"
