@@ -1,6 +1,10 @@
 """Chapters 1-4 as a newcomer reads them: one name per algorithm, and the line fit's timed
 distance stated where `fit_line` first appears.
 
+Chapter 2's prose agrees with the tables beside it (the two-line counts, the worst angle
+error, the time ratio) and colours each method as METHOD_STYLE does; chapter 1 names the chart
+distance and says which accumulator peak is at the line.
+
 The checks read the stored notebooks (no execution). Each was tried once on the text it guards
 against (the test at the end keeps small copies of those defects).
 """
@@ -79,6 +83,101 @@ def test_localization_3d_names_each_clap_and_says_how_they_differ():
     assert not early, early
 
 
+def _glued(notebook: dict) -> dict[str, str]:
+    """The glued values of a stored notebook, as their plain text."""
+    values = {}
+    for cell in notebook["cells"]:
+        for o in cell.get("outputs", []):
+            name = o.get("metadata", {}).get("scrapbook", {}).get("name")
+            if name:
+                values[name] = o["data"].get("application/papermill.record/text/plain")
+    return values
+
+
+def markdown_tables(text: str) -> list[list[list[str]]]:
+    """The Markdown tables in ``text``: rows of stripped cells, the header first."""
+    tables, current = [], []
+    for line in text.splitlines() + [""]:
+        if line.startswith("|") and line.rstrip().endswith("|"):
+            cells = [c.strip() for c in line.strip()[1:-1].split("|")]
+            if not all(re.fullmatch(r":?-+:?", c) for c in cells):
+                current.append(cells)
+        elif current:
+            tables.append(current)
+            current = []
+    return tables
+
+
+def _table(notebook: dict, column: str) -> tuple[list[list[str]], str]:
+    """The first shown table with a column ``column``, and the output holding it."""
+    return next((t, out) for out in shown_outputs(notebook) for t in markdown_tables(out)
+                if column in t[0])
+
+
+#: A colour typed into a plotting call instead of the method's colour (METHOD_STYLE).
+LITERAL_COLOUR = re.compile(r"colors=\[[^\]]*[\"'](?:#|\d|[a-z]+[\"'])")
+
+
+def line_fitting_defects(nb: dict) -> list[str]:
+    """Chapter 2's prose against the tables beside it, and one colour per method."""
+    prose, glued, defects = "".join(markdown_cells(nb)), _glued(nb), []
+    # the lowest threshold of the two-line table: a count per method, not "both"
+    table, out = _table(nb, "RANSAC between")
+    n = int(re.search(r"(\d+) scenes per threshold", out).group(1))
+    first = dict(zip(table[0], table[1], strict=False))  # the first of the repeated names
+    kept = {k: n - int(first[c]) for k, c in (("ransac", "RANSAC between"),
+                                                ("clap", "refitted between"))}
+    words = {k: "in every scene" if v == n else f"in {v} of {n}" for k, v in kept.items()}
+    said = glued.get("pair_on_a_line_15", "")
+    expected = f"lines {words['clap']} and RANSAC {words['ransac']}"
+    if "pair_on_a_line_15" not in prose or expected not in said:
+        defects.append(f"lowest threshold: on a line {words}, the text {said!r}")
+    # the side-by-side scene: the worst angle error as the table prints it
+    table, _ = _table(nb, "true inliers")
+    worst = max(table[1:], key=lambda r: float(r[1]))[1]
+    if "big_worst:.3f" not in prose or glued.get("big_worst") != worst:
+        defects.append(f"side by side: the worst error printed is {worst}, the text "
+                       f"{glued.get('big_worst')}")
+    # the time ratio of fit_line to the chart-distance CLAP, as the printed times give it
+    table, _ = _table(nb, "median [ms]")
+    ms = {r[0]: float(r[1]) for r in table[1:]}
+    printed = (next(v for k, v in ms.items() if "(fit_line)" in k)
+               / next(v for k, v in ms.items() if "chart distance" in k))
+    said = glued.get("c2_fit_line_vs_chart", "")
+    figure = re.search(r"(\d+(?:\.\d+)?) times", said)
+    if not figure or abs(float(figure.group(1)) - printed) > 0.06 * printed:
+        defects.append(f"time ratio: the table gives {printed:.3f}, the text {said!r}")
+    for cell in nb["cells"]:
+        if cell["cell_type"] == "code" and LITERAL_COLOUR.search(_text(cell["source"])):
+            defects.append("a figure colours a method by hand, not by METHOD_STYLE")
+    return defects
+
+
+def test_line_fitting_prose_agrees_with_its_tables_and_colours():
+    defects = line_fitting_defects(_notebook("02_line_fitting"))
+    assert not defects, defects
+
+
+def one_abstraction_defects(nb: dict) -> list[str]:
+    """Chapter 1 names the chart distance and says what the accumulator's peaks are."""
+    prose, glued, defects = "".join(markdown_cells(nb)), _glued(nb), []
+    if "{term}`chart distance`" not in prose:
+        defects.append("the distance between lines is never named the chart distance")
+    fullest = next((re.search(r"fullest cell (\d+) votes", t) for t in shown_outputs(nb)
+                    if "fullest cell" in t), None)
+    if not ({"peak_top_votes", "peak_rest"} <= set(re.findall(r"`(peak_\w+)`", prose))
+            and fullest and glued.get("peak_top_votes") == fullest.group(1)):
+        defects.append("the text does not say which accumulator peak is at the line")
+    return defects
+
+
+def test_one_abstraction_names_the_chart_distance_and_the_peaks():
+    defects = one_abstraction_defects(_notebook("01_one_abstraction"))
+    assert not defects, defects
+    glossary = (CHAPTERS.parent / "glossary.md").read_text(encoding="utf-8")
+    assert "\nchart distance\n" in glossary
+
+
 def test_the_checks_catch_each_defect():
     def page(*markdown, outputs=()):
         cells = [{"cell_type": "markdown", "source": m, "metadata": {}} for m in markdown]
@@ -99,6 +198,12 @@ def test_the_checks_catch_each_defect():
     assert not library_name_outside(page("CLAP (paper) + EKF"), "c3_same_words")
     old_2 = page("{py:func}`clap_unified.fit_line`, which is fit in a LineSpace.")
     assert "c2_fit_line_metric_words" not in first_fit_line_cell(old_2)
+    assert LITERAL_COLOUR.search('colors=["0.72"] + [METHOD_STYLE[k]["color"] for k in x],')
+    assert not LITERAL_COLOUR.search('colors=[METHOD_STYLE[k]["color"] for k in fits],')
+    old_1 = page("`Line2D` uses the logarithm at a base line",
+                 "cyan circles the strongest accumulator peaks. All three find the same place",
+                 outputs=["fullest cell 31 votes"])
+    assert len(one_abstraction_defects(old_1)) == 2
 
 
 def _glued(notebook: dict) -> dict[str, str]:

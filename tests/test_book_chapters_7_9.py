@@ -5,7 +5,9 @@
 * a count the prose states is made on the values the table beside it prints (rounded first,
   then counted): chapter 7's "below 3 %" against its table of errors per sequence;
 * chapter 8 says which distance and budget the timed line fit uses, from ``fit_line``'s own
-  defaults, and figure 8.3 is measured on several seeds.
+  defaults, and figure 8.3 is measured on several seeds;
+* chapter 9's EllipseSpace reads ``refit``'s weights as CircleSpace does, and the answer to
+  exercise 3 says which parts of the class stay.
 """
 
 from __future__ import annotations
@@ -14,6 +16,7 @@ import json
 import re
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 CHAPTERS = Path(__file__).resolve().parent.parent / "book" / "chapters"
@@ -178,3 +181,40 @@ def test_the_chapter7_9_checks_catch_the_old_text():
     new = ("The smaller plane is found on 2 of 3 seeds, although ... make 998 to 1000 "
            "clusters, nearly one each ... And 'found' is a loose test, more than half")
     assert exercise2_checks(table, new) == []
+
+
+def ellipse_space(notebook: dict):
+    """The ``EllipseSpace`` of chapter 9's exercise 3, defined by running its cell."""
+    source = next(_text(c["source"]) for c in notebook["cells"]
+                  if _text(c["source"]).startswith("# 3. an EllipseSpace"))
+    namespace = {"np": np}
+    exec(source, namespace)  # noqa: S102 - the book's own cell
+    return namespace["EllipseSpace"]
+
+
+def refit_weight_defects(space_class) -> list[str]:
+    """Where a space's ``refit`` reads ``weights`` otherwise than CircleSpace's: a weight of
+    0 drops a point, a weight of 2 counts it as two."""
+    g = np.random.default_rng(0)
+    t = g.uniform(0, 2 * np.pi, 60)
+    pts = np.c_[1 + 3 * np.cos(t), -1 + 1.5 * np.sin(t)] + g.normal(0, 0.02, (60, 2))
+    pts[:20] = g.uniform(-3, 5, (20, 2))
+    space, defects = space_class(), []
+    w = np.r_[np.zeros(20), 2.0, np.ones(39)]
+    if not np.allclose(space.refit(pts, weights=w), space.refit(np.r_[pts[20:], pts[20:21]])):
+        defects.append("refit ignores weights (0: drop the point, 2: count it twice)")
+    return defects
+
+
+def test_chapter9_ellipse_refit_honours_weights_and_the_answer_says_what_stays():
+    nb = _load("07_your_data")
+    assert not refit_weight_defects(ellipse_space(nb))
+    answer = next("".join(_outputs(c)) for c in nb["cells"]
+                  if "EllipseSpace()" in _text(c["source"]) and c.get("outputs"))
+    assert "Stayed:" in answer and "inherits" in answer  # the class's parts, not the library's
+
+    class Unweighted:  # the exercise's first refit: weights ignored
+        def refit(self, data, weights=None, initial=None):
+            return np.linalg.svd(np.c_[data, np.ones(len(data))])[2][-1]
+
+    assert refit_weight_defects(Unweighted)
