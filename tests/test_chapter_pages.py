@@ -115,6 +115,10 @@ def _cell_defects(where: str, cell: dict) -> list[str]:
     if not tags & HIDDEN and n_lines > MAX_VISIBLE_LINES:
         defects.append(f"{where}: visible code cell of {n_lines} lines "
                        f"(at most {MAX_VISIBLE_LINES})")
+    if not tags & HIDDEN:  # the stylesheet fits 88 characters to the column; folded may scroll
+        defects += [f"{where}: a visible code line of {len(line)} characters (at most "
+                    f"{MAX_OUTPUT_WIDTH}): {line.strip()[:50]!r}..."
+                    for line in source.splitlines() if len(line) > MAX_OUTPUT_WIDTH]
     if tags & FOLDED and n_lines > MAX_FOLDED_LINES:
         defects.append(f"{where}: folded code cell of {n_lines} lines "
                        f"(at most {MAX_FOLDED_LINES})")
@@ -314,6 +318,13 @@ def test_the_checks_catch_each_defect():
                       _cell("print(v)", [_stream("CLAP (paper) 0.53 px; clap_densest\n")]),
                       _markdown("the library's CLAP\n{glue:text}`x` and the library's CLAP: 2")]}
     assert page_defects(fine) == []
+
+
+def test_a_visible_code_line_wider_than_the_column_is_a_defect():
+    wide = "x = " + "1 + " * 25 + "1"
+    assert "visible code line of 105 characters" in " ".join(page_defects({"cells": [
+        _cell(wide)]}))
+    assert page_defects({"cells": [_cell(wide, tags=["hide-input"])]}) == []  # folded: scrolls
 
 
 def test_a_peer_goes_by_its_book_name():
