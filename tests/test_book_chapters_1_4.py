@@ -271,3 +271,27 @@ def test_localization_3d_time_ratio_in_words_agrees_with_the_printed_times():
     ratio = rows["CLAP (the library's)"] / rows["RANSAC (same triplets)"]
     words = _glued(nb)["c4_clap_vs_ransac"].strip("'\"")
     assert not as_long_misleads(words, ratio), (words, ratio)
+
+
+def _cites(text: str, name: str) -> bool:
+    return f"{{glue:text}}`{name}" in text  # a format spec may follow the name
+
+
+def test_localization_3d_mirror_distance_order_and_bandwidths_are_said():
+    nb = _notebook("04_localization_3d")
+    text = markdown_cells(nb)
+    prose = "".join(text)
+    assert "depends only on the order of the candidates" not in prose
+    assert _cites(prose, "c4_far_first")  # why the order favours the mirror image
+    field = next(t for t in text if t.startswith("## The field"))
+    assert _cites(field, "c4_mirror_lo") and _cites(field, "c4_mirror_hi")
+    caption = next(c["metadata"]["mystnb"]["figure"]["caption"] for c in nb["cells"]
+                   if c["metadata"].get("mystnb", {}).get("figure", {}).get("name")
+                   == "fig-3d-cdf-global")
+    assert _cites(caption, "c4_exp_mirror_lo") and not _cites(caption, "c4_mirror_m")
+    assert _cites(prose, "c4_wide_words")  # the rows at another bandwidth, said
+
+
+def test_localization_2d_explains_the_rise_up_to_the_best_rate():
+    prose = "".join(markdown_cells(_notebook("03_localization_2d")))
+    assert _cites(prose, "c3_same_verdict") and _cites(prose, "c3_same_n")

@@ -218,3 +218,74 @@ def test_chapter9_ellipse_refit_honours_weights_and_the_answer_says_what_stays()
             return np.linalg.svd(np.c_[data, np.ones(len(data))])[2][-1]
 
     assert refit_weight_defects(Unweighted)
+
+
+def _prose(notebook: dict) -> str:
+    return "".join(_text(c["source"]) for c in notebook["cells"] if c["cell_type"] == "markdown")
+
+
+def _cites(text: str, name: str) -> bool:
+    return f"{{glue:text}}`{name}`" in text
+
+
+def rounding_decides(table: list[list[str]]) -> list[str]:
+    """Rows of chapter 8's table beside the best peer whose printed value equals its threshold
+    but whose verdict does not say that it lies within rounding of it."""
+    header, bad = table[0], []
+    for row in table[1:]:
+        for value, verdict, limit in (("error / best peer", "within 1.1x", 1.1),
+                                      ("time / OpenCV RANSAC", "as fast", 1.0)):
+            if (float(row[header.index(value)]) == limit
+                    and "within rounding" not in row[header.index(verdict)]):
+                bad.append(f"{row[0]}, {row[1]}: {value} {row[header.index(value)]}")
+    return bad
+
+
+def test_chapter8_parity_with_the_peers_is_computed_and_owns_its_help():
+    prose = _prose(_load("06_performance"))
+    assert "it alone stays below" not in prose
+    for name in ("c6_below_words", "c6_budget_factor", "c6_ab_polish_homogr",
+                 "c6_ab_default_homogr", "c6_ab_polish_synthetic", "c6_ab_default_synthetic"):
+        assert _cites(prose, name), name
+
+
+def test_chapter8_beside_the_best_peer_is_judged_unrounded():
+    nb = _load("06_performance")
+    beside = next(t for c in nb["cells"] if c["cell_type"] == "code" for out in _outputs(c)
+                  for t in markdown_tables(out) if "as fast" in t[0])
+    assert not rounding_decides(beside), rounding_decides(beside)
+
+
+def test_chapter8_says_what_its_list_of_clusters_holds_and_each_3d_budget():
+    nb = _load("06_performance")
+    texts = [_text(c["source"]) for c in nb["cells"] if c["cell_type"] == "markdown"]
+    assert "What clustering gives that consensus alone does not" not in "".join(texts)
+    assert sum(_cites(t, "c6_list_words") for t in texts) >= 2  # section 8.4 and the verdict
+    o3d = next(t for t in texts if _cites(t, "c6_o3d_ratio") and "Open3D" in t
+               and not t.lstrip().startswith("## Verdict"))
+    assert _cites(o3d, "c6_o3d_iter") and _cites(o3d, "c6_clap3d_n")
+
+
+def test_chapter7_says_what_the_papers_reading_changes_and_counts_every_seed():
+    nb = _load("05c_many_answers")
+    prose = _prose(nb)
+    assert "which has none of the parts" not in prose
+    assert "changes all of them at once" not in prose
+    assert _cites(prose, "mm_paper_changed") and _cites(prose, "mm_paper_kept_words")
+    diagnosis = next(t for c in nb["cells"] if c["cell_type"] == "code"
+                     for out in _outputs(c) for t in markdown_tables(out)
+                     if t[0][-1].startswith("seeds:"))
+    totals = {sum(int(v) for v in row[-1].split(" / ")) for row in diagnosis[1:]}
+    assert len(totals) == 1, f"seeds unaccounted for: {totals}"
+
+
+def test_the_chapter8_checks_catch_the_old_tables():
+    old = markdown_tables(
+        "| set | method | right / best peer | as many | error / best peer | within 1.1x | "
+        "time / OpenCV RANSAC | as fast |\n|---|---|---|---|---|---|---|---|\n"
+        "| EVD | CLAP | 11.7 / 14.0 | no | 1.32 | no | 1.0 | yes |\n"
+        "| synthetic | CLAP | 8.3 / 12.0 | no | 1.10 | no | 0.8 | yes |\n")[0]
+    assert len(rounding_decides(old)) == 2
+    new = [row[:] for row in old]
+    new[1][7], new[2][5] = "no (1.034, within rounding)", "no (1.1040, within rounding)"
+    assert not rounding_decides(new)
