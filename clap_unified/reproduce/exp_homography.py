@@ -495,7 +495,7 @@ experiment("homography_synthetic",
            quick={"images_per_set": 2, "seeds": 2, "variants": QUICK_VARIANTS},
            full={"images_per_set": 3, "seeds": 5},
            datasets=(), figures=lambda out: figures_lie(out, "synthetic"),
-           expected_seconds=(7.0, 70.0), version=2)(run_homography_synthetic)
+           expected_seconds=(7.0, 110.0), version=2)(run_homography_synthetic)
 
 
 experiment("homography_vpg", "the paper's own VPG images (S01-S12)",
@@ -503,7 +503,7 @@ experiment("homography_vpg", "the paper's own VPG images (S01-S12)",
            full={"sets": None, "seeds": 5}, datasets=("vpg",),
            optional=True,
            figures=lambda out: figures_lie(out, "vpg"),
-           expected_seconds=(20.0, 120.0), version=2)(run_homography_vpg)
+           expected_seconds=(20.0, 190.0), version=2)(run_homography_vpg)
 
 
 # -------------------------------------------------------------- homogr, EVD
@@ -533,7 +533,7 @@ experiment("homography_homogr", "homogr: Lie distance to the ground truth (real 
            full={"pairs": None, "seeds": 5},
            datasets=("homography",),
            figures=lambda out: figures_lie(out, "homogr"),
-           expected_seconds=(3.0, 25.0), version=2)(run_homography_homogr)
+           expected_seconds=(3.0, 45.0), version=2)(run_homography_homogr)
 
 
 def run_homography_evd(params: dict, seed: int) -> dict:
