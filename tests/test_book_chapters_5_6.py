@@ -214,3 +214,99 @@ def test_the_checks_catch_each_defect():
     cited = {"cell_type": "markdown", "source": "It breaks at 80 %. {glue:text}`sweep_edge`"}
     glue_cell = {"cell_type": "code", "source": "", "outputs": [said]}
     assert edge_defects({"cells": [sweep, glue_cell, cited]}) == []
+
+
+# --- values on a threshold, the polish, the yardstick of chapter 6 ---------------------------
+
+#: "BruggeSquare at 9.998 px (CLAP (paper) + polish) is not above."
+SIDE = re.compile(r"(\w+) at (exactly )?(\d+\.\d+)( px)? \((.*?)\) is (not )?above")
+
+
+def threshold_defects(nb: dict) -> list[str]:
+    """Chapter 5's comparisons with a threshold that rounding decides.
+
+    A value said to be (or not to be) above homogr's 10 px failure line, or EVD's 80 % of the
+    labelled inliers kept, must be printed with the decimals that show its side (10.0 px "is
+    not above" 10 px says nothing), unless it is the threshold exactly; and every pair that
+    EVD's per-pair table prints at 0.80 must be named in the note under the summary, which
+    compares the unrounded shares."""
+    defects = []
+    for _, text in _outputs(nb):
+        for name, exact, value, _px, _who, _not in SIDE.findall(text):
+            if not exact and float(value) in (10.0, 0.8):
+                defects.append(f"{name} at {value}: rounding decides its side")
+        if "| pair | inliers |" in text and "pairs > 80 %" in text:
+            note = text.split("Compared unrounded with 80 %", 1)
+            for row in text.splitlines():
+                cells = [c.strip() for c in row.strip("|").split("|")]
+                if "0.80" in cells[2:] and (len(note) < 2 or cells[0] not in note[1]):
+                    defects.append(f"{cells[0]} printed at 0.80, its side unsaid")
+    return defects
+
+
+def test_rounding_never_decides_a_threshold():
+    assert threshold_defects(_load(CH5)) == []
+
+
+def _markdown(nb: dict) -> str:
+    return "\n".join(_text(c["source"]) for c in nb["cells"] if c["cell_type"] == "markdown")
+
+
+def _code(nb: dict) -> str:
+    return "\n".join(_text(c["source"]) for c in nb["cells"] if c["cell_type"] == "code")
+
+
+def said_defects(nb5: dict, nb6: dict) -> list[str]:
+    """What the text says against what the chapters measure.
+
+    * chapter 5: the polish is said to make runs worse where it does (glued counts, not "changes
+      no failure"); the sentence under figure 5.2 counts the correct runs above its zoom
+      (glued), not "the correct estimates of every method fall below about 0.5"; the lower
+      median of 1000 ordered EVD candidates is explained from the per-pair numbers (glued);
+    * chapter 6: the SRE's yardstick is one, the matches both CLAP (paper) and RANSAC call
+      inliers (as the experiment computes it), in the text and on the CDF's axis; the table
+      counts estimates returned, not "solved" pairs; exercise 1's solution says that its
+      measure leaves out the seam."""
+    md5, md6, code6 = _markdown(nb5), _markdown(nb6), _code(nb6)
+    defects = []
+    if "changes no failure" in md5 or "{glue:text}`h_polish_worse_ransac`" not in md5:
+        defects.append("ch5: the polish's harm unsaid")
+    if "{glue:text}`syn_zoom_wide`" not in md5:
+        defects.append("ch5: the correct runs above figure 5.2's zoom uncounted")
+    if "{glue:text}`evd_big_words`" not in md5:
+        defects.append("ch5: the lower median of 1000 ordered candidates unexplained")
+    if ("both CLAP (paper) and the library's RANSAC" not in md6
+            or "both CLAP (paper) and RANSAC (library) call inliers" not in code6
+            or "every method" in code6 and "inliers" in code6.split("every method", 1)[1][:40]):
+        defects.append("ch6: the yardstick of the SRE is not one")
+    if any('"solved"' in _text(c["source"]) for c in nb6["cells"] if c["cell_type"] == "code"):
+        defects.append("ch6: 'solved' counts estimates returned")
+    solution = [t for _, t in _outputs(nb6) if "overlap sharpness" in t]
+    if not solution or "seam" not in solution[0]:
+        defects.append("ch6: exercise 1's measure leaves out the seam, unsaid")
+    return defects
+
+
+def test_the_text_says_what_is_measured():
+    assert said_defects(_load(CH5), _load(CH6)) == []
+
+
+def test_these_checks_catch_the_defects():
+    bad = {"output_type": "display_data", "data": {"text/markdown": (
+        "| pair | inliers | A | B |\n|:--|--:|--:|--:|\n| adam | 0.307 | 0.80 | 0.55 |\n\n"
+        "Summary | pairs > 80 % |\n\nBruggeSquare at 10.0 px (A (paper) + B) is not above.")}}
+    assert threshold_defects({"cells": [{"cell_type": "code", "source": "",
+                                         "outputs": [bad]}]}) == [
+        "BruggeSquare at 10.0: rounding decides its side", "adam printed at 0.80, its side unsaid"]
+    good = {"output_type": "display_data", "data": {"text/markdown": (
+        "| pair | inliers | A | B |\n|:--|--:|--:|--:|\n| adam | 0.307 | 0.80 | 0.55 |\n\n"
+        "Summary | pairs > 80 % |\n\nCompared unrounded with 80 %: adam at 0.803 (A) is above."
+        "\n\nBruggeSquare at 9.998 px (A) is not above.")}}
+    assert threshold_defects({"cells": [{"cell_type": "code", "source": "",
+                                         "outputs": [good]}]}) == []
+    old5 = {"cells": [{"cell_type": "markdown", "source": "lowers it and changes no failure"}]}
+    old6 = {"cells": [
+        {"cell_type": "markdown", "source": "both CLAP (paper) and the library's RANSAC"},
+        {"cell_type": "code", "source": '("pairs", "d"), ("solved", "d")', "outputs": [
+            {"output_type": "stream", "text": "overlap sharpness 95%: overwrite hides it"}]}]}
+    assert len(said_defects(old5, old6)) == 6
