@@ -718,7 +718,7 @@ def figures_stitching_real(output: dict) -> dict:
         b.step(q, np.arange(1, len(q) + 1) / len(q), where="post", color=COLORS.get(m),
                ls=DASHES.get(m, "-"), lw=1.6, label=m)
     a.set_xlabel("RMS symmetric reprojection error [px], on the matches\n"
-                 "every method takes as inliers")
+                 "both CLAP and RANSAC call inliers")
     a.set_ylabel("fraction of pairs")
     b.set_xlabel("inlier ratio (3 px)")
     a.legend(fontsize=8)
