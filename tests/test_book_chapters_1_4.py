@@ -15,6 +15,8 @@ import json
 import re
 from pathlib import Path
 
+from book_pages import glued_values, markdown_tables
+
 CHAPTERS = Path(__file__).resolve().parent.parent / "book" / "chapters"
 
 #: The page's machinery named in its text.
@@ -83,31 +85,6 @@ def test_localization_3d_names_each_clap_and_says_how_they_differ():
     assert not early, early
 
 
-def _glued(notebook: dict) -> dict[str, str]:
-    """The glued values of a stored notebook, as their plain text."""
-    values = {}
-    for cell in notebook["cells"]:
-        for o in cell.get("outputs", []):
-            name = o.get("metadata", {}).get("scrapbook", {}).get("name")
-            if name:
-                values[name] = o["data"].get("application/papermill.record/text/plain")
-    return values
-
-
-def markdown_tables(text: str) -> list[list[list[str]]]:
-    """The Markdown tables in ``text``: rows of stripped cells, the header first."""
-    tables, current = [], []
-    for line in text.splitlines() + [""]:
-        if line.startswith("|") and line.rstrip().endswith("|"):
-            cells = [c.strip() for c in line.strip()[1:-1].split("|")]
-            if not all(re.fullmatch(r":?-+:?", c) for c in cells):
-                current.append(cells)
-        elif current:
-            tables.append(current)
-            current = []
-    return tables
-
-
 def _table(notebook: dict, column: str) -> tuple[list[list[str]], str]:
     """The first shown table with a column ``column``, and the output holding it."""
     return next((t, out) for out in shown_outputs(notebook) for t in markdown_tables(out)
@@ -120,7 +97,7 @@ LITERAL_COLOUR = re.compile(r"colors=\[[^\]]*[\"'](?:#|\d|[a-z]+[\"'])")
 
 def line_fitting_defects(nb: dict) -> list[str]:
     """Chapter 2's prose against the tables beside it, and one colour per method."""
-    prose, glued, defects = "".join(markdown_cells(nb)), _glued(nb), []
+    prose, glued, defects = "".join(markdown_cells(nb)), glued_values(nb), []
     # the lowest threshold of the two-line table: a count per method, not "both"
     table, out = _table(nb, "RANSAC between")
     n = int(re.search(r"(\d+) scenes per threshold", out).group(1))
@@ -160,7 +137,7 @@ def test_line_fitting_prose_agrees_with_its_tables_and_colours():
 
 def one_abstraction_defects(nb: dict) -> list[str]:
     """Chapter 1 names the chart distance and says what the accumulator's peaks are."""
-    prose, glued, defects = "".join(markdown_cells(nb)), _glued(nb), []
+    prose, glued, defects = "".join(markdown_cells(nb)), glued_values(nb), []
     if "{term}`chart distance`" not in prose:
         defects.append("the distance between lines is never named the chart distance")
     fullest = next((re.search(r"fullest cell (\d+) votes", t) for t in shown_outputs(nb)
@@ -206,28 +183,10 @@ def test_the_checks_catch_each_defect():
     assert len(one_abstraction_defects(old_1)) == 2
 
 
-def _glued(notebook: dict) -> dict[str, str]:
-    values = {}
-    for cell in notebook["cells"]:
-        for o in cell.get("outputs", []):
-            name = o.get("metadata", {}).get("scrapbook", {}).get("name")
-            if name:
-                values[name] = _text(o["data"].get("application/papermill.record/text/plain", ""))
-    return values
-
-
 def table_column(markdown: str, header: str) -> list[str]:
     """The cells of the column ``header`` in every Markdown table of ``markdown``."""
-    values, column = [], None
-    for line in markdown.splitlines():
-        cells = [c.strip() for c in line.strip().strip("|").split("|")]
-        if header in cells:
-            column = cells.index(header)
-        elif column is not None and line.startswith("|") and not set(line) <= set("|:- "):
-            values.append(cells[column])
-    return values
-
-
+    return [row[table[0].index(header)] for table in markdown_tables(markdown)
+            if header in table[0] for row in table[1:]]
 def glued_values_outside_column(glued: dict, column: list[str], names) -> list[str]:
     """Names whose glued value, as the table prints it (one decimal), is not in ``column``.
 
@@ -247,7 +206,7 @@ def test_localization_2d_tracking_prose_cites_the_printed_diverged_column():
         assert f"{{glue:text}}`{name}:.1f`" in prose, name
     column = [v for t in shown_outputs(nb) for v in table_column(t, "diverged %")]
     assert column, "the tracking tables"
-    assert not glued_values_outside_column(_glued(nb), column, names)
+    assert not glued_values_outside_column(glued_values(nb), column, names)
 
 
 def as_long_misleads(words: str, ratio: float) -> bool:
@@ -269,7 +228,7 @@ def test_localization_3d_time_ratio_in_words_agrees_with_the_printed_times():
             if len(cells) == 2 and cells[0] in ("CLAP (the library's)", "RANSAC (same triplets)"):
                 rows[cells[0]] = float(cells[1])
     ratio = rows["CLAP (the library's)"] / rows["RANSAC (same triplets)"]
-    words = _glued(nb)["c4_clap_vs_ransac"].strip("'\"")
+    words = glued_values(nb)["c4_clap_vs_ransac"].strip("'\"")
     assert not as_long_misleads(words, ratio), (words, ratio)
 
 

@@ -21,6 +21,7 @@ import re
 from pathlib import Path
 
 import pytest
+from book_pages import glued_values
 
 BOOK = Path(__file__).resolve().parent.parent / "book" / "chapters"
 CH5, CH6 = BOOK / "05_homographies.ipynb", BOOK / "05b_stitching.ipynb"
@@ -44,16 +45,6 @@ def _outputs(nb: dict):
             for key, value in o.get("data", {}).items():
                 if key.endswith("text/plain") or key.endswith("text/markdown"):
                     yield i, _text(value)
-
-
-def _glued(nb: dict) -> dict:
-    out = {}
-    for cell in nb["cells"]:
-        for o in cell.get("outputs", []):
-            name = o.get("metadata", {}).get("scrapbook", {}).get("name")
-            if name:
-                out[name] = _text(o["data"].get("application/papermill.record/text/plain", ""))
-    return out
 
 
 def deviation_tables(nb: dict) -> tuple[int, int]:
@@ -115,7 +106,7 @@ def test_the_break_is_the_defined_one():
     ratios, rates = _sweep_table(nb)
     clap = rates["CLAP (paper)"]
     first = next((r for r, v in zip(ratios, clap, strict=True) if v < 0.5), None)
-    glued = _glued(nb).get("sweep_clap_break", "")
+    glued = glued_values(nb).get("sweep_clap_break", "")
     assert glued.strip("'\"") == (f"{first} %" if first is not None else "no ratio tried"), (
         glued, ratios, clap)
 
@@ -146,7 +137,7 @@ NUMBER = re.compile(r"(?<![\w.])\d+(?:\.\d+)?(?:e[-+]?\d+)?")
 def rounding_defects(nb: dict, tol: float = 0.05) -> list[str]:
     """Prose values (glued) more than ``tol`` away from the value the table beside prints
     (``rel_max_pct`` is a percentage of a printed fraction: 1.3e-03 is 0.13 %)."""
-    glued, defects = _glued(nb), []
+    glued, defects = glued_values(nb), []
     for name, header, row, k, scale in PROSE_BESIDE_TABLE:
         line = next(line for line in _printed(nb, header) if line.lstrip().startswith(row))
         printed = scale * float(NUMBER.findall(line.lstrip()[len(row):])[k])
@@ -167,7 +158,7 @@ def edge_defects(nb: dict) -> list[str]:
     on the edge of its definition (one seed fewer, and it would be there): the glued sentence
     ``sweep_edge``, cited beside the definition, must name the method, the ratio and say so."""
     ratios, rates = _sweep_table(nb)
-    said = _glued(nb).get("sweep_edge", "")
+    said = glued_values(nb).get("sweep_edge", "")
     cited = any("{glue:text}`sweep_edge`" in _text(c["source"]) for c in nb["cells"]
                 if c["cell_type"] == "markdown")
     defects = []

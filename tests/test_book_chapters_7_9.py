@@ -18,6 +18,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from book_pages import glued_values, markdown_tables
 
 CHAPTERS = Path(__file__).resolve().parent.parent / "book" / "chapters"
 PAGES = ("05c_many_answers", "06_performance", "07_your_data")
@@ -41,20 +42,6 @@ def _outputs(cell) -> list[str]:
             shown.append(_text(o["text"]))
         shown += [_text(o["data"][k]) for k in ("text/markdown",) if k in o.get("data", {})]
     return shown
-
-
-def markdown_tables(text: str) -> list[list[list[str]]]:
-    """The Markdown tables in ``text``: rows of stripped cells, the header first."""
-    tables, current = [], []
-    for line in text.splitlines() + [""]:
-        if line.startswith("|") and line.rstrip().endswith("|"):
-            cells = [c.strip() for c in line.strip()[1:-1].split("|")]
-            if not all(re.fullmatch(r":?-+:?", c) for c in cells):
-                current.append(cells)
-        elif current:
-            tables.append(current)
-            current = []
-    return tables
 
 
 def word_cells(table: list[list[str]]) -> list[str]:
@@ -85,17 +72,6 @@ def test_word_cells_catch_words_among_numbers():
     assert word_cells([["set", "as many"], ["homogr", "no"], ["EVD", "yes"]]) == []
 
 
-def _glued(notebook: dict) -> dict[str, str]:
-    values = {}
-    for cell in notebook["cells"]:
-        for o in cell.get("outputs", []):
-            name = o.get("metadata", {}).get("scrapbook", {}).get("name")
-            if name:
-                plain = o["data"].get("application/papermill.record/text/plain")
-                values[name] = plain
-    return values
-
-
 def test_chapter7_count_below_3_is_made_on_the_printed_table():
     nb = _load("05c_many_answers")
     per_sequence = next(t for c in nb["cells"] if c["cell_type"] == "code"
@@ -103,14 +79,14 @@ def test_chapter7_count_below_3_is_made_on_the_printed_table():
                         if t[0][0] == "sequence")
     column = per_sequence[0].index("CLAP (the library's)")
     printed = [float(row[column]) for row in per_sequence[1:]]
-    assert int(_glued(nb)["mm_n_below_3"]) == sum(v < 3 for v in printed)
+    assert int(glued_values(nb)["mm_n_below_3"]) == sum(v < 3 for v in printed)
     prose = "".join(_text(c["source"]) for c in nb["cells"] if c["cell_type"] == "markdown")
     assert "below 3 % on {glue:text}`mm_n_below_3`" in prose
 
 
 def test_chapter8_says_what_the_timed_line_fit_uses():
     nb = _load("06_performance")
-    glued = _glued(nb)
+    glued = glued_values(nb)
     prose = "".join(_text(c["source"]) for c in nb["cells"] if c["cell_type"] == "markdown")
     for name in ("c6_line_metric", "c6_space_metric", "c6_line_budget"):
         assert f"{{glue:text}}`{name}`" in prose, name
@@ -157,7 +133,7 @@ def test_chapter8_explains_what_figure_8_3_shows():
     """Figure 8.3: the densest-cluster reading flat in N, the crossing of the two time lines,
     and a memory slope of 0.21 beside 3 -> 49 MB, each explained from computed numbers."""
     nb = _load("06_performance")
-    glued = _glued(nb)
+    glued = glued_values(nb)
     prose = "".join(_text(c["source"]) for c in nb["cells"] if c["cell_type"] == "markdown")
     for name in ("c6_cross_words", "c6_slope_n_paper", "c6_slope_n_clap", "c6_mem_lo",
                  "c6_mem_big_ratio", "c6_mem_big_slope"):

@@ -11,6 +11,8 @@ import json
 import re
 from pathlib import Path
 
+from book_pages import glued_values
+
 BOOK = Path(__file__).resolve().parents[1] / "book"
 #: A glue citation from another document: ``{glue:text}`chapters/NB::key:format```.
 CROSS = re.compile(r"\{glue:text\}`chapters/([\w.]+)::(\w+):([^`]*)`")
@@ -20,17 +22,7 @@ LOCAL = r"\{{glue:text\}}`{key}(?::([^`]*))?`"
 
 def _glued(notebook: str) -> dict:
     """``{key: text}`` of what a chapter's saved outputs glue."""
-    nb = json.loads((BOOK / "chapters" / notebook).read_text())
-    out = {}
-    for cell in nb["cells"]:
-        for o in cell.get("outputs", []):
-            name = o.get("metadata", {}).get("scrapbook", {}).get("name")
-            if name:
-                out[name] = "".join(o["data"].get("application/papermill.record/text/plain",
-                                                  ""))
-    return out
-
-
+    return glued_values(json.loads((BOOK / "chapters" / notebook).read_text()))
 def _prose(notebook: str) -> str:
     nb = json.loads((BOOK / "chapters" / notebook).read_text())
     return "\n".join("".join(c["source"]) for c in nb["cells"] if c["cell_type"] == "markdown")
