@@ -11,7 +11,10 @@ Static checks on the stored notebooks:
   definition the text gives: the lowest ratio at which fewer than half of the seeds succeed;
   a break that rests on exactly half of the seeds at a lower ratio is said to sit on the edge;
 * a ratio or share the prose cites beside a table agrees with the value the table prints
-  (within 5 %: "about 2000 times" beside 1610, or "at most 0.1 %" beside 1.3e-03, do not).
+  (within 5 %: "about 2000 times" beside 1610, or "at most 0.1 %" beside 1.3e-03, do not);
+* chapter 5 opens with the idea: no number in the title's cell, a figure before the first
+  section, the protocol's numbers first under "## The protocol", and no section whose first
+  sentence opens on a number.
 """
 
 from __future__ import annotations
@@ -301,3 +304,74 @@ def test_these_checks_catch_the_defects():
         {"cell_type": "code", "source": '("pairs", "d"), ("solved", "d")', "outputs": [
             {"output_type": "stream", "text": "overlap sharpness 95%: overwrite hides it"}]}]}
     assert len(said_defects(old5, old6)) == 6
+
+
+# --- chapter 5 opens with the idea, not the protocol ------------------------------------------
+
+GLUE = re.compile(r"\{glue(?::\w*)?\}`([^`]+)`")
+#: the protocol's numbers: cited first under "## The protocol", not in the chapter's opening
+PROTOCOL_NUMBERS = ("n_rounds", "discard_pct", "ransac_iters")
+SENTENCE_END = re.compile(r"[.?!:](?=\s|$)")
+
+
+def _sections(nb: dict) -> list[tuple[str, str]]:
+    """``(heading, body)`` of each ``## `` section of the notebook's text, in order."""
+    text = _markdown(nb)
+    parts = re.split(r"^## (.+)$", text, flags=re.MULTILINE)
+    return list(zip(parts[1::2], parts[2::2], strict=True))
+
+
+def opening_defects(nb: dict) -> list[str]:
+    """What keeps a chapter's opening from reading as a textbook page's.
+
+    * the title's cell cites no measured or protocol number (it says the idea in words);
+    * a figure comes before the first ``## `` section (the idea drawn before the protocol);
+    * the protocol's numbers are first cited under ``## The protocol``, which exists;
+    * each section's first sentence of prose says what it is about before any number: it
+      cites no glued value (a section opening on a table, a list or code is left alone)."""
+    cells, defects = nb["cells"], []
+    if GLUE.search(_text(cells[0]["source"])):
+        defects.append("the title's cell cites a glued number")
+    first = next((i for i, c in enumerate(cells) if c["cell_type"] == "markdown"
+                  and re.search(r"^## ", _text(c["source"]), flags=re.MULTILINE)), len(cells))
+    if not any("image/png" in o.get("data", {}) for c in cells[:first]
+               for o in c.get("outputs", [])):
+        defects.append("no figure before the first section")
+    sections = _sections(nb)
+    where = {}  # the section each protocol number is first cited in
+    intro = _markdown({"cells": cells[:first]})
+    for name in PROTOCOL_NUMBERS:
+        if name in GLUE.findall(intro):
+            where[name] = "(opening)"
+        else:
+            where[name] = next((h for h, body in sections if name in GLUE.findall(body)), None)
+    defects += [f"{name} first cited in {at!r}, not under 'The protocol'"
+                for name, at in where.items() if at != "The protocol"]
+    for heading, body in sections:
+        prose = re.sub(r"^\(\S+\)=\s*$", "", body, flags=re.MULTILINE).strip()
+        if not prose or prose[0] in "|`*" or re.match(r"\d+\. ", prose):
+            continue
+        sentence = SENTENCE_END.split(prose, maxsplit=1)[0]
+        if GLUE.search(sentence):
+            defects.append(f"section {heading!r} opens on a number: {sentence[:60]!r}")
+    return defects
+
+
+def test_chapter_5_opens_with_the_idea():
+    assert opening_defects(_load(CH5)) == []
+
+
+def test_the_opening_check_catches_a_protocol_first_page():
+    old = {"cells": [
+        {"cell_type": "markdown", "source": "# Homographies\n\nThe paper draws {glue:text}"
+         "`n_candidates` candidates, {glue:text}`n_rounds` rounds of {glue:text}`discard_pct` "
+         "%; RANSAC runs {glue:text}`ransac_iters` iterations."},
+        {"cell_type": "markdown", "source": "## The synthetic set\n\n{glue:text}`n_sets` sets "
+         "S01-S12, each viewing one plane."}]}
+    assert opening_defects(old) == [
+        "the title's cell cites a glued number", "no figure before the first section",
+        "n_rounds first cited in '(opening)', not under 'The protocol'",
+        "discard_pct first cited in '(opening)', not under 'The protocol'",
+        "ransac_iters first cited in '(opening)', not under 'The protocol'",
+        "section 'The synthetic set' opens on a number: '{glue:text}`n_sets` sets S01-S12, "
+        "each viewing one plane'"]
