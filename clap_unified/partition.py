@@ -28,6 +28,12 @@ from .coherence import coherent_labels, neighbour_graph
 __all__ = ["assign_labels", "finish_partition", "label_cost_energy", "refine_hypotheses",
            "refit_partition", "select_by_label_cost", "select_models"]
 
+#: Residuals within this fraction of the threshold of a datum's smallest are a tie, which
+#: goes to the first model. A datum of two models' minimal samples has a residual of
+#: rounding size (1e-13) on both; which of the two is smaller is the last bit of a float
+#: and differs between BLAS builds, so it must not decide the label.
+TIE_TOLERANCE = 1e-9
+
 
 def assign_labels(space, models, data, threshold: float) -> np.ndarray:
     """Label of each datum: the model with the smallest residual, if below ``threshold``.
@@ -43,8 +49,9 @@ def assign_labels(space, models, data, threshold: float) -> np.ndarray:
     Returns
     -------
     ndarray of int, shape (N,)
-        Index into ``models``, ``-1`` for a datum no model explains. Ties go
-        to the first model.
+        Index into ``models``, ``-1`` for a datum no model explains (or whose
+        residuals are not finite). Ties, residuals within
+        ``TIE_TOLERANCE * threshold`` of the smallest, go to the first model.
 
     Examples
     --------
@@ -59,9 +66,10 @@ def assign_labels(space, models, data, threshold: float) -> np.ndarray:
     if len(models) == 0:
         return np.full(n, -1, dtype=np.intp)
     r = space.residuals(models, data)
-    best = np.argmin(r, axis=0)
-    labels = best.astype(np.intp)
-    labels[r[best, np.arange(n)] >= threshold] = -1
+    with np.errstate(invalid="ignore"):
+        best = np.argmax(r <= r.min(axis=0) + TIE_TOLERANCE * threshold, axis=0)
+        labels = best.astype(np.intp)
+        labels[~(r[best, np.arange(n)] < threshold)] = -1
     return labels
 
 

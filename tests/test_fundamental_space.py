@@ -294,3 +294,24 @@ def test_adelaidermf_book_smoke():
         assert res.success, (method, res.reason)
         assert np.mean(res.inliers[truth]) > recall, method
         assert np.mean(truth[res.inliers]) > 0.9, method
+
+
+@pytest.mark.parametrize("seed", range(5))
+def test_seven_points_six_of_them_on_a_plane_determine_no_fundamental_matrix(seed):
+    # every matrix of the pencil has rank 2 (F = [e']_x H with e' on a line), so the cubic
+    # det(x F1 + y F2) is zero to rounding and its "roots" are noise that differs between
+    # BLAS builds; the sample must give no solution, as any other degenerate sample
+    rng = np.random.default_rng(seed)
+    X = np.c_[rng.uniform(-1, 1, (7, 2)), np.full(7, 5.0)]
+    X[6, 2] = 3.0
+    x1 = 500 * X[:, :2] / X[:, 2:] + 320
+    Y = X + [0.5, 0.1, 0.2]
+    x2 = 500 * Y[:, :2] / Y[:, 2:] + 320
+    F, owner = seven_point(x1, x2)
+    assert len(F) == 0 and len(owner) == 0
+    X[5, 2] = 4.0                       # five on the plane: a proper sample again
+    x1 = 500 * X[:, :2] / X[:, 2:] + 320
+    Y = X + [0.5, 0.1, 0.2]
+    x2 = 500 * Y[:, :2] / Y[:, 2:] + 320
+    F, _ = seven_point(x1, x2)
+    assert len(F) >= 1 and np.abs(sampson_error(F, x1, x2)).max() < 1e-6

@@ -352,3 +352,16 @@ def test_explain_errors_refuses_answers_the_energy_does_not_judge(options):
 
     with pytest.raises(ValueError, match="^options"):
         explain_errors(threshold=5.0, options=options, names=[])
+
+
+def test_a_datum_on_two_models_goes_to_the_first_whatever_the_last_bits():
+    # a point of two models' minimal samples has a residual of rounding size on both:
+    # which is smaller is the last bit of a float (it differs between BLAS builds) and
+    # must not decide its label; ties within TIE_TOLERANCE * threshold go to the first
+    lines = np.array([[np.pi / 2, 1e-13], [np.pi / 4, 0.0]])   # y = 1e-13 and x + y = 0
+    pts = np.array([[0.0, 0.0], [3.0, 0.0], [-2.0, 2.0]])
+    r = LineSpace().residuals(lines, pts)
+    assert r[1, 0] < r[0, 0] < 1e-12                          # the second is nearer by 1e-13
+    assert assign_labels(LineSpace(), lines, pts, 0.5).tolist() == [0, 0, 1]
+    nan = np.array([[np.nan, np.nan]])
+    assert assign_labels(LineSpace(), nan, pts, 0.5).tolist() == [-1, -1, -1]

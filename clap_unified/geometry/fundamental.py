@@ -39,6 +39,12 @@ RANK_RATIO = 1e-9
 EIGEN_RATIO = 1e-12
 #: Roots of the cubic whose imaginary part is below this (relative) are real.
 REAL_TOL = 1e-8
+#: A cubic ``det(x F1 + y F2)`` whose coefficients are all below this is identically
+#: zero: every matrix of the pencil (``F1``, ``F2`` of unit norm in the normalised frame)
+#: has rank 2, as when six of the seven points lie on one plane, and its "roots" are
+#: rounding noise that differs between BLAS builds. Such a sample determines no ``F``.
+#: (On AdelaideRMF such cubics are below 1e-14, the others above 1e-4.)
+CUBIC_TOL = 1e-10
 
 
 def _constraints(q1, q2):
@@ -116,6 +122,7 @@ def seven_point(x1, x2):
     coef = np.where(by_x[:, None], np.stack([c3, c2, c1, c0], -1),
                     np.stack([c0, c1, c2, c3], -1))
     lead = coef[:, 0]
+    ok &= np.abs(coef).max(axis=-1) > CUBIC_TOL
     ok &= np.abs(lead) > 1e-12 * np.abs(coef).max(axis=-1)
     lead = np.where(ok, lead, 1.0)
     companion = np.zeros((n, 3, 3))
