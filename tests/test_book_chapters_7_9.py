@@ -265,3 +265,107 @@ def test_the_chapter8_checks_catch_the_old_tables():
     new = [row[:] for row in old]
     new[1][7], new[2][5] = "no (1.034, within rounding)", "no (1.1040, within rounding)"
     assert not rounding_decides(new)
+
+
+CACHE = CHAPTERS.parent / "_build" / "reproduction" / "experiments"
+
+
+def seed_spread_defects(tables: list[list[list[str]]], rows: list[dict], best: dict,
+                        names: dict) -> list[str]:
+    """What chapter 7's table of the spread over seeds gets wrong against the cached rows.
+
+    ``rows`` are the experiment's rows (method, sequence, seed, threshold, error), ``best``
+    each method's best threshold, ``names`` the table's name of each method. For each method
+    at its best threshold the table must print the lowest and the highest mean over the
+    sequences of one seed, and, for every method but the library's CLAP, the number of
+    sequences whose seed-mean error (to one decimal) is lower / higher / equal to CLAP's.
+    """
+    table = next((t for t in tables if "lowest seed [%]" in t[0]), None)
+    if table is None:
+        return ["no table of the spread over seeds"]
+    head, printed = table[0], {r[0]: r for r in table[1:]}
+    col = {k: head.index(k) for k in ("lowest seed [%]", "highest seed [%]")}
+    lower = next(k for k, h in enumerate(head) if h.startswith("sequences: lower"))
+    seq_mean, problems = {}, []
+    for method, threshold in best.items():
+        mine = [r for r in rows if r["method"] == method and r["threshold"] == threshold]
+        by_seed, by_seq = {}, {}
+        for r in mine:
+            by_seed.setdefault(r["seed"], []).append(100 * r["error"])
+            by_seq.setdefault(r["sequence"], []).append(100 * r["error"])
+        seq_mean[method] = {q: round(float(np.mean(v)), 1) for q, v in by_seq.items()}
+        means = [float(np.mean(v)) for v in by_seed.values()]
+        row = printed.get(names[method])
+        if row is None:
+            problems.append(f"{method}: no row")
+            continue
+        for key, value in (("lowest seed [%]", min(means)), ("highest seed [%]", max(means))):
+            if row[col[key]] != f"{value:.1f}":
+                problems.append(f"{method}: {key} {row[col[key]]} != {value:.1f}")
+    clap = seq_mean.get("clap", {})
+    for method in best:
+        row = printed.get(names[method])
+        if method == "clap" or row is None:
+            continue
+        sign = [np.sign(v - clap[q]) for q, v in seq_mean[method].items()]
+        want = [str(sign.count(s)) for s in (-1, 1, 0)]
+        if row[lower:lower + 3] != want:
+            problems.append(f"{method}: lower/higher/equal {row[lower:lower + 3]} != {want}")
+    return problems
+
+
+def test_chapter7_gives_the_spread_over_seeds_of_the_cached_rows():
+    """Chapter 7's AdelaideRMF table gave means over 17 sequences x 5 seeds and no spread."""
+    path = CACHE / "multimodel_adelaidermf.json"
+    if not path.exists():
+        pytest.skip("no cached reproduction")
+    output = json.loads(path.read_text(encoding="utf-8"))["output"]
+    best = {k: s["threshold"] for k, s in output["numbers"]["methods"].items()}
+    nb = _load("05c_many_answers")
+    names = dict(re.findall(r'"(\w+)": "([^"]+)"', next(
+        _text(c["source"]) for c in nb["cells"] if c["cell_type"] == "code"
+        and _text(c["source"]).lstrip().startswith("run = reproduce(")
+        and "NAMES = {" in _text(c["source"]))))
+    tables = [t for c in nb["cells"] if c["cell_type"] == "code"
+              for out in _outputs(c) for t in markdown_tables(out)]
+    problems = seed_spread_defects(tables, output["tables"]["multimodel"], best, names)
+    assert not problems, problems
+    # the prose says whether CLAP's lead is larger than the spread, and the guide too
+    prose = _prose(nb)
+    assert _cites(prose, "mm_seed_words") and _cites(prose, "mm_seed_wins")
+    words = glued_values(nb)["mm_seed_words"]
+    assert re.search(r"(within|larger than) the spread over seeds", words), words
+    guide = (CHAPTERS.parent / "choosing.md").read_text(encoding="utf-8")
+    assert "05c_many_answers.ipynb::mm_guide_spread" in guide
+
+
+def test_the_seed_spread_check_catches_a_missing_or_wrong_table():
+    rows = [{"method": m, "sequence": q, "seed": s, "threshold": 5.0, "error": e}
+            for m, errs in (("clap", (0.04, 0.06, 0.02, 0.02)),
+                            ("ransac", (0.05, 0.09, 0.0, 0.04)))
+            for (q, s), e in zip([("a", 0), ("a", 1), ("b", 0), ("b", 1)], errs, strict=True)]
+    names = {"clap": "CLAP (the library's)", "ransac": "sequential RANSAC"}
+    best = {"clap": 5.0, "ransac": 5.0}
+    head = ["method", "mean error [%]", "lowest seed [%]", "highest seed [%]",
+            "sequences: lower than CLAP (the library's)", "higher", "equal"]
+    right = [head, ["CLAP (the library's)", "3.5", "3.0", "4.0", "-", "-", "-"],
+             ["sequential RANSAC", "4.5", "2.5", "6.5", "0", "1", "1"]]
+    assert seed_spread_defects([right], rows, best, names) == []
+    assert seed_spread_defects([], rows, best, names) == ["no table of the spread over seeds"]
+    wrong = [r[:] for r in right]
+    wrong[2][3], wrong[2][5] = "5.5", "0"
+    assert len(seed_spread_defects([wrong], rows, best, names)) == 2
+
+
+def test_chapter8_says_what_99_within_3_px_is_beside_100_right():
+    """Figure 8.2's legend read '99 matches within 3 px' beside '100 right' in the table above
+    it, and the page never said how the two differ."""
+    nb = _load("06_performance")
+    words = glued_values(nb).get("c6_right_near_words", "")
+    assert _cites(_prose(nb), "c6_right_near_words")
+    table = _cell_text(nb, "pair = next(p for p in DATA")
+    right = int(re.search(r"matches: (\d+) right", table).group(1))
+    found = re.search(r"has (\d+) of the (\d+) right matches within", words)
+    assert found and int(found.group(2)) == right, (words, right)
+    if int(found.group(1)) < right:  # the ones left out are accounted for
+        assert "leaves out" in words, words
