@@ -369,3 +369,87 @@ def test_chapter8_says_what_99_within_3_px_is_beside_100_right():
     assert found and int(found.group(2)) == right, (words, right)
     if int(found.group(1)) < right:  # the ones left out are accounted for
         assert "leaves out" in words, words
+
+def chapter7_story_problems(prose: str, glued: dict[str, str]) -> list[str]:
+    """Where chapter 7's prose says more than its own numbers: clusters "one per plane" beside
+    refined hypotheses that make nearly as many clusters as there are hypotheses; a count of
+    the parts the library's CLAP changes that is not the computed one; "the same methods"
+    beside a motions table with fewer; the decoy's list as more than a ranking of single
+    candidates; a comparison with Progressive-X that does not say its threshold was fixed."""
+    text = " ".join(prose.split())
+    problems = []
+    clusters, hypotheses = glued.get("mm_barr_clusters"), glued.get("mm_barr_hyp")
+    if clusters is None or hypotheses is None or not _cites(prose, "mm_barr_clusters"):
+        problems.append("the cluster count is not cited")
+    elif float(clusters) > 0.9 * float(hypotheses):
+        problems += [f"{phrase!r} beside {clusters} clusters of {hypotheses}" for phrase in
+                     ("one per plane", "a cluster of its own", "a cluster on each plane",
+                      "enough for a cluster", "converge to one model")
+                     if phrase in text]
+    if re.search(r"changes (two|three|four|five|six) things", text) or \
+            not re.search(r"differs in \{glue:text\}`mm_paper_changed`", text):
+        problems.append("the parts the library's CLAP changes are not the computed count")
+    if "The same methods, the same protocol" in text or not _cites(prose, "mm_f_names"):
+        problems.append("the motions' methods are not named")
+    if "says nothing of the other" in text or \
+            "a RANSAC that kept its scored samples" not in text:
+        problems.append("the decoy's list is not what chapter 8 says it is")
+    if text.count("preset threshold") < 2:
+        problems.append("Progressive-X's fixed threshold is not said")
+    return problems
+
+
+def hidden_names_unsaid(notebook: dict) -> set[str]:
+    """Names the exercise solutions (folded cells after '## Exercises') take from removed
+    cells without the prose naming them."""
+    import ast
+
+    def names(source: str, ctx) -> set[str]:
+        tree, found = ast.parse(source), set()
+        for node in ast.walk(tree):
+            if isinstance(node, ast.Name) and isinstance(node.ctx, ctx):
+                found.add(node.id)
+            elif ctx is ast.Store and isinstance(node, ast.Import | ast.ImportFrom):
+                found |= {(a.asname or a.name).split(".")[0] for a in node.names}
+            elif ctx is ast.Store and isinstance(node, ast.FunctionDef):
+                found.add(node.name)
+        return found
+
+    hidden, shown, used, exercises = set(), set(), set(), False
+    for cell in notebook["cells"]:
+        source = _text(cell["source"])
+        if cell["cell_type"] == "markdown":
+            exercises = exercises or "\n## Exercises" in "\n" + source
+            continue
+        tags = cell.get("metadata", {}).get("tags", [])
+        (hidden if "remove-cell" in tags else shown).update(names(source, ast.Store))
+        if exercises and "hide-cell" in tags:
+            used |= names(source, ast.Load)
+    return {n for n in (used & hidden) - shown if f"`{n}`" not in _prose(notebook)}
+
+
+def test_chapter7_says_what_its_clusters_are_and_names_its_hidden_helpers():
+    nb = _load("05c_many_answers")
+    glued = glued_values(nb)
+    assert not chapter7_story_problems(_prose(nb), glued), chapter7_story_problems(
+        _prose(nb), glued)
+    printed = _cell_text(nb, 'PAPER_READING = METHODS["clap_paper"]')
+    assert f"{glued['mm_barr_clusters']} clusters of {glued['mm_barr_hyp']}" in printed
+    assert not hidden_names_unsaid(nb), hidden_names_unsaid(nb)
+
+
+def test_the_chapter7_story_check_catches_the_old_text():
+    old = ("local samples give 70 and 55, enough for a cluster on each plane. The library's CLAP "
+           "changes three things: local samples, ... the smaller plane has a cluster of its own. "
+           "The same methods, the same protocol, outside the claim. CLAP keeps it in its list "
+           "of clusters where RANSAC reports one answer and says nothing of the other. The "
+           "clusters are there, one per plane, {glue:text}`mm_barr_clusters`")
+    glued = {"mm_barr_clusters": "982", "mm_barr_hyp": "1000"}
+    # four phrases of the cluster story ("enough for a cluster on each plane" is two), then
+    # the count of parts, the motions' methods, the decoy and the threshold
+    assert len(chapter7_story_problems(old, glued)) == 8, chapter7_story_problems(old, glued)
+    nb = _load("05c_many_answers")
+    for cell in nb["cells"]:  # the Solutions paragraph without its clause on hidden names
+        if cell["cell_type"] == "markdown" and _text(cell["source"]).startswith("**Solutions"):
+            cell["source"] = "**Solutions.** The folded cells below answer the exercises."
+    assert hidden_names_unsaid(nb) == {"pure_counts", "textwrap"}
