@@ -144,3 +144,17 @@ def test_the_front_page_checks_catch_the_old_text():
            "localization in chapter 3.")
     assert chapters_named(library_clap_sentence(old)) == {7, 8}
     assert chapters_labelling_library_clap() >= {1, 2, 4, 7, 8, 9}
+
+
+def test_the_front_page_says_what_clap_is_and_maps_the_book_before_the_claims():
+    """The front page asked a newcomer to parse the claims table and its alternatives and
+    controls before "How to read this book" (the chapter map)."""
+    text = (BOOK / "intro.md").read_text(encoding="utf-8")
+    headings = re.findall(r"^## (.+)$", text, flags=re.MULTILINE)
+    assert headings.index("How to read this book") < headings.index(
+        "What the paper claims, and what was measured"), headings
+    read = text.index("## How to read this book")
+    assert text.index("{term}`CLAP`") < read  # what CLAP is, first
+    # the claims' machinery (the table, alternatives, controls) comes after the chapter map
+    for word in ("claims_markdown(", "{term}`two-proportion test`", "Controls are"):
+        assert text.index(word) > read, word

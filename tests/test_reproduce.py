@@ -279,7 +279,8 @@ def test_variants_are_judged_by_the_same_rule_and_flips_are_named():
     assert {"paper": "MoCap", "here": "simulated", "why": "data unavailable"} in c["deviations"]
     assert all(d["why"].startswith(WHY) for d in c["deviations"])
     md = claims_markdown(list(claims.values()))
-    assert ("1 of 2 alternatives reaches another verdict (all protocol alternatives)" in md
+    assert ("1 of 2 alternatives, all of them readings of the protocol, reaches another verdict"
+            in md
             and "a perturbed CLAP" in md)
 
 

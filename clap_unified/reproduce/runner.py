@@ -31,7 +31,14 @@ from pathlib import Path
 import numpy as np
 
 from . import progress as _progress
-from .claims import _differs, alternatives_count, alternatives_text, claim_block, evaluate_claims
+from .claims import (
+    _differs,
+    alternatives_count,
+    alternatives_text,
+    claim_block,
+    evaluate_claims,
+    keep_units,
+)
 from .data import missing_datasets
 from .registry import EXPERIMENTS, finite_or_none, seed_for
 
@@ -390,7 +397,7 @@ def _csv(rows) -> str:
 
 
 def _cell(s) -> str:
-    return str(s).replace("|", "\\|").replace("\n", " ")
+    return keep_units(str(s).replace("|", "\\|").replace("\n", " "))
 
 
 def _row(cells) -> str:
@@ -437,7 +444,14 @@ def claims_markdown(claims, details: bool = True) -> str:
 def _controls_cell(controls) -> str:
     """The controls' verdicts, each marked when it did not reach the other verdict."""
     marks = {"partly": " (did not decide: moved part of the way)", "no": " (did not decide)"}
-    return "; ".join(r["verdict"] + marks.get(r.get("reaches"), "") for r in controls) or "-"
+
+    def mark(r):
+        m = marks.get(r.get("reaches"), "")
+        if m and r.get("weakens") == "CLAP" and r["verdict"] == "not reproduced":
+            m = " (did not decide: it weakens CLAP, so it could only confirm the verdict)"
+        return m
+
+    return "; ".join(r["verdict"] + mark(r) for r in controls) or "-"
 
 
 def verdicts_markdown(claims) -> str:
@@ -455,7 +469,8 @@ def verdicts_markdown(claims) -> str:
     >>> print(header)
     | claim | on the paper's protocol | alternatives | controls |
     >>> print(row.split(" | ")[2])
-    1 of 2 alternatives reaches another verdict (all protocol alternatives): 1 not reproduced
+    1 of 2 alternatives, all of them readings of the protocol, reaches another verdict: 1 not
+    reproduced
     """
     lines = ["| claim | on the paper's protocol | alternatives | controls |",
              "|---|---|---|---|"]
