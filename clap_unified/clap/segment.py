@@ -5,8 +5,10 @@ The multi-model CLAP, a segmenter of :func:`~clap_unified.segment`:
 1. **refine** each hypothesis on its own inliers
    (:func:`~clap_unified.partition.refine_hypotheses`): minimal-sample
    hypotheses of one structure scatter with the noise of four points;
-   refitted on what they explain, they gather on the structure, so a small
-   plane gives a cluster instead of a lone hypothesis;
+   refitted on what they explain, they move onto the structure (on the
+   AdelaideRMF planes nearly every one still keeps an inlier set of its own,
+   as chapter 7 of the book counts on barrsmith, so a small plane is often
+   one refined hypothesis, and step 3 does the choosing);
 2. **cluster** the refined hypotheses in hypothesis space: those that
    converged to one model (``bandwidth=None``: the same inlier set, hence the
    same refit) or that lie within ``bandwidth`` of a density seed

@@ -17,7 +17,8 @@ that asks neighbouring matches to share a model: :mod:`clap_unified.coherence`):
   minimal samples, density clusters of the raw hypotheses (its automatic
   bandwidth), clusters taken by support while each explains new matches;
 * ``clap``: the library's multi-model CLAP (local samples, hypotheses refined
-  on their inliers, clusters of converged hypotheses, a label cost);
+  on their inliers, grouped when they end with the same inliers (on planes
+  nearly every one stays alone), a label cost that picks the models);
 * ``ransac``: sequential RANSAC with the same local samples each round;
 * ``multi_ransac``: MultiRANSAC (Zuliani et al., 2005), a set of at most six
   models fused with each batch of the shared hypotheses;
@@ -215,8 +216,8 @@ def run_multimodel(params: dict, seed: int) -> dict:
                                   "sequences": p.get("n_sequences")} for p in published_f},
                    "sequences": len({r["sequence"] for r in fundamental})}}
     variants = {"library_clap": {
-        "label": "the library's multi-model CLAP (local samples, refined hypotheses, clusters "
-                 "of converged hypotheses, label cost) as CLAP", "kind": "extension",
+        "label": "the library's multi-model CLAP (local samples, refined hypotheses grouped by "
+                 "their inliers, a label cost that picks the models) as CLAP", "kind": "extension",
         "numbers": {**numbers, "methods": {**numbers["methods"],
                                            "clap_paper": numbers["methods"]["clap"]}}}}
     for label, summary in ablation.items():
