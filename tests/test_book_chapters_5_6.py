@@ -301,3 +301,17 @@ def test_these_checks_catch_the_defects():
         {"cell_type": "code", "source": '("pairs", "d"), ("solved", "d")', "outputs": [
             {"output_type": "stream", "text": "overlap sharpness 95%: overwrite hides it"}]}]}
     assert len(said_defects(old5, old6)) == 6
+
+
+def test_stitching_exercises_ask_what_their_measure_answers():
+    """Exercise 1 asked "which mode hides it longer" of a crop that leaves out the seam (its
+    solution conceded the answer was built in); exercise 2 said "draw" for "sample"."""
+    nb = json.loads((BOOK / "05b_stitching.ipynb").read_text(encoding="utf-8"))
+    cells = ["".join(c["source"]) for c in nb["cells"]]
+    exercises = next(t for t in cells if "## Exercises" in t).split("## Exercises")[1]
+    assert "hides it longer" not in exercises
+    assert "lose a fifth" in exercises and "measure not see" in exercises
+    assert "draw CLAP (paper)'s candidates" not in exercises
+    assert "sample 1000 candidates" in exercises and "`wrong`" in exercises
+    solution = next(t for t in cells if t.startswith("# 1. a shifted homography"))
+    assert "hides it longer" not in solution and "built into the measure" not in solution
