@@ -354,7 +354,7 @@ def test_localization_3d_summary_states_budgets_thresholds_and_noise():
     summary = next(t for t in text if t.startswith("## Summary"))
     assert _cites(summary, "c4_o3d_share_pct") and _cites(summary, "c4_o3d_iter")
     assert "FGR with its default options\n" not in prose
-    assert "maximum_correspondence_distance=PC_THR" in prose
+    assert "threshold=PC_THR)` sets its\n`maximum_correspondence_distance`" in prose
     assert "error is the largest of the three" not in prose
     assert _cites(prose, "c4_lambda_er_gap")
 
