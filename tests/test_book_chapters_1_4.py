@@ -254,3 +254,125 @@ def test_localization_3d_mirror_distance_order_and_bandwidths_are_said():
 def test_localization_2d_explains_the_rise_up_to_the_best_rate():
     prose = "".join(markdown_cells(_notebook("03_localization_2d")))
     assert _cites(prose, "c3_same_verdict") and _cites(prose, "c3_same_n")
+
+
+def _figure_meta(notebook: dict, name: str) -> dict:
+    return next(c["metadata"]["mystnb"] for c in notebook["cells"]
+                if c["metadata"].get("mystnb", {}).get("figure", {}).get("name") == name)
+
+
+#: Colour names of the book's palette (Okabe-Ito), as a reader would say them.
+COLOUR_NAMES = {"#0072B2": "dark-blue", "#56B4E9": "light-blue", "#D55E00": "orange",
+                "#009E73": "green"}
+
+
+def line_figure_colour_defects(nb: dict, style: dict) -> list[str]:
+    """Figure 2.1's caption and alt text name each method's colour as METHOD_STYLE has it."""
+    meta, glued = _figure_meta(nb, "fig-lines-one-scene"), glued_values(nb)
+    caption, alt = meta["figure"]["caption"], meta["image"]["alt"]
+    defects = [f"{where} says grey" for where, t in (("caption", caption), ("alt", alt))
+               if "grey" in t]
+    for method in ("hough", "randomized_hough", "ransac", "clap"):
+        want = COLOUR_NAMES[style[method]["color"]]
+        if not (_cites(caption, f"c2_colour_{method}")
+                and glued.get(f"c2_colour_{method}", "").strip("'\"") == want):
+            defects.append(f"caption: {method} is not named {want}")
+        if want not in alt:
+            defects.append(f"alt text: no {want}")
+    return defects
+
+
+def test_line_figure_names_the_colours_it_draws():
+    from clap_unified.viz import METHOD_STYLE
+
+    nb = _notebook("02_line_fitting")
+    assert not line_figure_colour_defects(nb, METHOD_STYLE), line_figure_colour_defects(
+        nb, METHOD_STYLE)
+    old = json.loads(json.dumps(nb))
+    for c in old["cells"]:
+        if c["metadata"].get("mystnb", {}).get("figure", {}).get("name") == \
+                "fig-lines-one-scene":
+            c["metadata"]["mystnb"]["image"]["alt"] = "a wide grey band, a narrower blue band"
+    assert line_figure_colour_defects(old, METHOD_STYLE)
+
+
+def test_line_fitting_grid_text_names_every_failure_of_its_table():
+    """Every failing step of the Hough grid table at the higher noise is in the text."""
+    nb = _notebook("02_line_fitting")
+    prose, glued = "".join(markdown_cells(nb)), glued_values(nb)
+    table, _ = _table(nb, "rho step")
+    fail_col = next(h for h in table[0] if h.startswith("failures"))
+    rows = [dict(zip(table[0], r, strict=True)) for r in table[1:]]
+    high = max(float(r["noise"]) for r in rows)
+    failing = [r for r in rows if float(r["noise"]) == high and int(r[fail_col])]
+    finest = min(float(r["rho step"]) for r in rows)
+    said = glued.get("grid_hi_other_fails", "")
+    assert _cites(prose, "grid_hi_other_fails") and _cites(prose, "grid_fails_hi_fine")
+    for r in failing:
+        if float(r["rho step"]) != finest:
+            assert f"in {r[fail_col]} with step {r['rho step']}" in said, (r, said)
+
+
+def test_line_fitting_says_both_differences_of_randomized_hough_and_clap():
+    prose = "".join(markdown_cells(_notebook("02_line_fitting")))
+    assert "differ only in how they estimate" not in prose
+    section = prose.split("## Randomized Hough and CLAP on one hypothesis set")[1][:600]
+    assert "plain mean" in section and "trimmed medoid" in section
+
+
+def test_one_abstraction_draws_the_truth_beneath_the_estimates():
+    """The truth is drawn by ``mark`` (large hollow stars beneath, estimates on top, one
+    colour), not by the library's plotting functions (a small star over the peak, lime in
+    the Hough panel, crimson crosses inside crimson stars)."""
+    nb = _notebook("01_one_abstraction")
+    code = "\n".join(_text(c["source"]) for c in nb["cells"] if c["cell_type"] == "code")
+    calls = re.findall(r"plot_(?:hypotheses|accumulator)\([^)]*\)", code, flags=re.DOTALL)
+    assert calls and not [c for c in calls if "truth=" in c or "centres=" in c], calls
+    assert "zorder=2" in code and "zorder=3" in code
+    for name in ("fig-one-views", "fig-one-two-lines"):
+        caption = _figure_meta(nb, name)["figure"]["caption"]
+        assert "beneath" in caption or "on top" in caption, name
+
+
+def test_localization_2d_times_ransac_with_the_same_gate():
+    nb = _notebook("03_localization_2d")
+    prose, glued = "".join(markdown_cells(nb)), glued_values(nb)
+    code = "\n".join(_text(c["source"]) for c in nb["cells"] if c["cell_type"] == "code")
+    assert 'method="ransac", prior=prior' in code
+    assert _cites(prose, "c3_local_vs_ransac") and _cites(prose, "c3_ransac_gate")
+    assert "same gate" in glued["c3_local_vs_ransac"]
+    out = next(t for t in shown_outputs(nb) if "with the same prior gate" in t)
+    ms = dict(re.findall(r"(local|gate) ([\d.]+) ms", out))
+    words = glued["c3_local_vs_ransac"].strip("'\"")
+    assert not as_long_misleads(words, float(ms["local"]) / float(ms["gate"])), (words, ms)
+
+
+def test_localization_3d_summary_states_budgets_thresholds_and_noise():
+    nb = _notebook("04_localization_3d")
+    text = markdown_cells(nb)
+    prose = "".join(text)
+    summary = next(t for t in text if t.startswith("## Summary"))
+    assert _cites(summary, "c4_o3d_share_pct") and _cites(summary, "c4_o3d_iter")
+    assert "FGR with its default options\n" not in prose
+    assert "threshold=PC_THR)` sets its\n`maximum_correspondence_distance`" in prose
+    assert "error is the largest of the three" not in prose
+    assert _cites(prose, "c4_lambda_er_gap")
+
+
+def test_exercises_name_the_hidden_helpers_they_use():
+    for stem, names in (("03_localization_2d", ("show_table", "rates")),
+                        ("04_localization_3d", ("show_table", "NAME"))):
+        prose = "".join(markdown_cells(_notebook(stem)))
+        solutions = prose.split("### Worked solutions")[1]
+        for name in names:
+            assert f"`{name}" in solutions, (stem, name)
+
+
+def test_glossary_defines_the_terms_a_newcomer_missed():
+    glossary = (CHAPTERS.parent / "glossary.md").read_text(encoding="utf-8")
+    for term in ("Progressive-X", "minimum support", "PEARL", "MultiRANSAC", "decoy",
+                 "breakdown", "label-0 tentative matches"):
+        assert f"\n{term}\n" in glossary, term
+    entry = glossary.split("\nCLAP (the library's)\n")[1].split("\n\n")[0]
+    assert "clusters of the converged hypotheses" not in entry
+    assert "its own cluster" in entry and "label cost" in entry

@@ -375,3 +375,16 @@ def test_the_opening_check_catches_a_protocol_first_page():
         "ransac_iters first cited in '(opening)', not under 'The protocol'",
         "section 'The synthetic set' opens on a number: '{glue:text}`n_sets` sets S01-S12, "
         "each viewing one plane'"]
+
+def test_stitching_exercises_ask_what_their_measure_answers():
+    """Exercise 1 asked "which mode hides it longer" of a crop that leaves out the seam (its
+    solution conceded the answer was built in); exercise 2 said "draw" for "sample"."""
+    nb = json.loads((BOOK / "05b_stitching.ipynb").read_text(encoding="utf-8"))
+    cells = ["".join(c["source"]) for c in nb["cells"]]
+    exercises = next(t for t in cells if "## Exercises" in t).split("## Exercises")[1]
+    assert "hides it longer" not in exercises
+    assert "lose a fifth" in exercises and "measure not see" in exercises
+    assert "draw CLAP (paper)'s candidates" not in exercises
+    assert "sample 1000 candidates" in exercises and "`wrong`" in exercises
+    solution = next(t for t in cells if t.startswith("# 1. a shifted homography"))
+    assert "hides it longer" not in solution and "built into the measure" not in solution
