@@ -453,3 +453,144 @@ def test_the_chapter7_story_check_catches_the_old_text():
         if cell["cell_type"] == "markdown" and _text(cell["source"]).startswith("**Solutions"):
             cell["source"] = "**Solutions.** The folded cells below answer the exercises."
     assert hidden_names_unsaid(nb) == {"pure_counts", "textwrap"}
+
+# --- chapter 8: the ablation's credit, the exercise's time, verdicts near a bar, the list ----
+
+def _ablation(nb: dict) -> tuple[dict[str, list[float]], list[str]]:
+    """The ablation table as printed: variant -> pairs right per data set."""
+    table = next(t for c in nb["cells"] if c["cell_type"] == "code" for out in _outputs(c)
+                 for t in markdown_tables(out) if t[0][0] == "variant" and len(t[0]) > 2)
+    sets = [h.removeprefix("right ") for h in table[0] if h.startswith("right ")]
+    return {row[0]: [float(v) if v != "-" else np.nan for v in row[1:1 + len(sets)]]
+            for row in table[1:]}, sets
+
+
+def ablation_defects(nb: dict) -> list[str]:
+    """The ablation's conclusion credits what its rows isolate: the single-cluster row's
+    difference from the default, glued as the table prints it, not 'the data must choose
+    among several clusters'."""
+    prose, glued = _prose(nb), glued_values(nb)
+    rows, sets = _ablation(nb)
+    default = next(k for k in rows if k.startswith("+ adaptive budget"))
+    one = next(k for k in rows if k.endswith(", one cluster"))
+    defects = []
+    if "the data must choose among several clusters" in prose:
+        defects.append("credit to choosing among several clusters")
+    for k, d in enumerate(sets):
+        name = f"c6_ab_one_gain_{d}"
+        if not _cites(prose, name):
+            defects.append(f"{name} uncited")
+        elif abs(float(glued[name]) - (rows[default][k] - rows[one][k])) > 1e-9:
+            defects.append(f"{name}: {glued[name]} against the table")
+    return defects
+
+
+def test_chapter8_ablation_credits_what_its_rows_show():
+    assert ablation_defects(_load("06_performance")) == []
+
+
+def test_chapter8_time_bullet_says_what_exercise_2_measures():
+    """Exercise 2's 500 candidates took 0.88, 1.09 and 1.15 of the default's time: the
+    verdict says 'costs or saves' and quotes the ratios the solution prints."""
+    nb = _load("06_performance")
+    prose, glued = _prose(nb), glued_values(nb)
+    assert "the time it saves" not in prose and _cites(prose, "c6_ex2_time_words")
+    printed = next(o for c in nb["cells"] for o in _outputs(c)
+                   if o.startswith("Starting at 500 candidates"))
+    ratios = re.findall(r"\d\.\d\d \(\w+\)", " ".join(printed.split()))
+    assert ratios and all(r in glued["c6_ex2_time_words"] for r in ratios), (ratios, glued)
+
+
+def close_unsaid(table: list[list[str]], close: float = 0.05) -> list[str]:
+    """Rows of chapter 8's table beside the best peer whose value lies within ``close`` of
+    its bar (a fraction of it) but whose verdict is a plain yes or no."""
+    header, bad = table[0], []
+    for row in table[1:]:
+        for value, verdict, limit in (("error / best peer", "within 1.1x", 1.1),
+                                      ("time / OpenCV RANSAC", "as fast", 1.0)):
+            v, said = float(row[header.index(value)]), row[header.index(verdict)]
+            if abs(v - limit) <= close * limit + 1e-9 and said in ("yes", "no"):
+                bad.append(f"{row[0]}, {row[1]}: {value} {v:g} '{said}'")
+    return bad
+
+
+def test_chapter8_verdicts_near_their_bar_say_so():
+    nb = _load("06_performance")
+    beside = next(t for c in nb["cells"] if c["cell_type"] == "code" for out in _outputs(c)
+                  for t in markdown_tables(out) if "as fast" in t[0])
+    assert not close_unsaid(beside), close_unsaid(beside)
+    assert _cites(_prose(nb), "c6_close_pct")
+
+
+def test_chapter8_list_of_answers_is_one_verdict():
+    """The verdict says what the list is (a ranking a RANSAC could keep too) and that no
+    peer here offers one."""
+    prose = " ".join(_prose(_load("06_performance")).split())
+    bullet = prose.split("**The list of answers.**", 1)[1].split("## Exercises", 1)[0]
+    assert "a RANSAC that kept its scored samples could" in bullet
+    assert "none of the peers here" in bullet
+    assert "instead of being silently lost" not in bullet
+
+
+def _assigned(tree) -> set[str]:
+    import ast
+
+    names = set()
+    for node in ast.walk(tree):
+        if isinstance(node, (ast.FunctionDef, ast.ClassDef)):
+            names.add(node.name)
+        elif isinstance(node, ast.Name) and isinstance(node.ctx, ast.Store):
+            names.add(node.id)
+        elif isinstance(node, (ast.Import, ast.ImportFrom)):
+            names |= {(a.asname or a.name).split(".")[0] for a in node.names}
+    return names
+
+
+def hidden_helper_defects(nb: dict) -> list[str]:
+    """Names a shown (or folded) code cell uses whose latest definition is in a cell removed
+    from the page, unannounced: the cell must name each in a comment that says so."""
+    import ast
+
+    removed_last, defects = set(), []
+    for i, cell in enumerate(nb["cells"]):
+        if cell["cell_type"] != "code":
+            continue
+        source, tags = _text(cell["source"]), set(cell.get("metadata", {}).get("tags", []))
+        tree = ast.parse(source)
+        mine = _assigned(tree)
+        if "remove-cell" in tags:
+            removed_last |= mine
+            continue
+        if "remove-input" not in tags:
+            used = {n.id for n in ast.walk(tree)
+                    if isinstance(n, ast.Name) and isinstance(n.ctx, ast.Load)}
+            comments = " ".join(line for line in source.splitlines()
+                                if line.lstrip().startswith("#"))
+            for name in sorted((used & removed_last) - mine):
+                if name not in comments or "removed" not in comments:
+                    defects.append(f"cell {i}: {name} from a removed cell, unannounced")
+        removed_last -= mine
+    return defects
+
+
+@pytest.mark.parametrize("stem", ["05_homographies", "06_performance"])
+def test_shown_cells_announce_helpers_from_removed_cells(stem):
+    assert hidden_helper_defects(_load(stem)) == []
+
+
+def test_the_chapter8_sixth_read_checks_catch_the_old_text():
+    old = markdown_tables(
+        "| set | method | right / best peer | as many | error / best peer | within 1.1x | "
+        "time / OpenCV RANSAC | as fast |\n|---|---|---|---|---|---|---|---|\n"
+        "| EVD | CLAP | 13.7 / 14.0 | no | 1.12 | no | 1.4 | no |\n"
+        "| synthetic | CLAP | 8.3 / 12.0 | no | 1.11 | no | 0.8 | yes |\n")[0]
+    assert len(close_unsaid(old)) == 2
+    old[1][5], old[2][5] = "no (1.12, just above 1.1)", "no (1.11, just above 1.1)"
+    assert not close_unsaid(old)
+    shown = {"cell_type": "code", "metadata": {}, "source": "plot(decoy_rank)"}
+    hidden = {"cell_type": "code", "metadata": {"tags": ["remove-cell"]},
+              "source": "decoy_rank = 1"}
+    assert hidden_helper_defects({"cells": [hidden, shown]}) == [
+        "cell 1: decoy_rank from a removed cell, unannounced"]
+    said = {**shown, "source": "# decoy_rank: from a cell removed from the page\nplot(decoy_rank)"}
+    assert hidden_helper_defects({"cells": [hidden, said]}) == []
