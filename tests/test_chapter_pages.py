@@ -584,3 +584,35 @@ def test_the_front_pages_talk_about_the_subject():
         assert not FRONT_SELF_TALK.findall(prose), (name, FRONT_SELF_TALK.findall(prose))
         glued_ms = re.findall(r"\{glue(?::\w*)?\}`[^`]*`\s*ms\b", prose)
         assert not glued_ms, (name, glued_ms)
+
+
+def figure_defects(notebook: dict) -> list[str]:
+    """Figures a reader sees without a caption or alt text (the book's -W build fails on them:
+    this finds them before a build does)."""
+    defects = []
+    for i, cell in enumerate(notebook["cells"]):
+        if cell["cell_type"] != "code" or _tags(cell) & {"remove-cell", "remove-output"}:
+            continue
+        if not any("image/png" in o.get("data", {}) for o in cell.get("outputs", [])):
+            continue
+        meta = cell.get("metadata", {}).get("mystnb", {})
+        if not meta.get("figure", {}).get("caption"):
+            defects.append(f"cell {i}: a figure without a caption")
+        if not meta.get("image", {}).get("alt"):
+            defects.append(f"cell {i}: a figure without alt text")
+    return defects
+
+
+@pytest.mark.parametrize("path", [_param(p) for p in CHAPTERS])
+def test_every_figure_has_a_caption_and_alt_text(path):
+    assert figure_defects(json.loads(path.read_text())) == []
+
+
+def test_a_figure_without_a_caption_is_a_defect():
+    figure = {"output_type": "display_data", "data": {"image/png": "..."}}
+    bare = _cell("plt.show()", [figure])
+    told = {**_cell("plt.show()", [figure]),
+            "metadata": {"mystnb": {"figure": {"caption": "c"}, "image": {"alt": "a"}}}}
+    hidden = _cell("plt.show()", [figure], tags=["remove-output"])
+    assert figure_defects({"cells": [bare, told, hidden]}) == [
+        "cell 0: a figure without a caption", "cell 0: a figure without alt text"]
