@@ -25,12 +25,54 @@ import numpy as np
 
 from ._validation import check_int, check_positive
 
-__all__ = ["BEYOND_THRESHOLD", "coherent_labels", "expand_labels", "neighbour_graph",
-           "potts_energy"]
+__all__ = ["BEYOND_THRESHOLD", "TIE_TOLERANCE", "coherent_labels", "expand_labels",
+           "nearest_labels", "neighbour_graph", "potts_energy"]
 
 #: Cost of giving a datum to a model whose residual is beyond the threshold
 #: (in units of an outlier's cost): high enough that no neighbour pulls it there.
 BEYOND_THRESHOLD = 1e3
+
+#: Residuals within this fraction of the threshold of a datum's smallest are a tie, which
+#: goes to the first model. A datum of two models' minimal samples has a residual of
+#: rounding size (1e-13) on both; which of the two is smaller is the last bit of a float
+#: and differs between BLAS builds, so it must not decide the label.
+TIE_TOLERANCE = 1e-9
+
+
+def nearest_labels(residuals, threshold: float) -> np.ndarray:
+    """Each datum's nearest model, if nearer than ``threshold``; ties to the first model.
+
+    The labelling without coherence, and the start of :func:`coherent_labels`.
+
+    Parameters
+    ----------
+    residuals : array_like of shape (K, N)
+        Residual of each datum under each model.
+    threshold : float
+
+    Returns
+    -------
+    ndarray of int, shape (N,)
+        Index of the model, ``-1`` for a datum no model explains. Residuals
+        within ``TIE_TOLERANCE * threshold`` of a datum's smallest are a tie and
+        go to the first of them; a non-finite residual explains nothing.
+
+    Examples
+    --------
+    The second datum lies on both models to the last bit of a float: a tie.
+
+    >>> r = np.array([[0.1, 1e-13, 0.9], [0.3, 2e-13, 0.7]])
+    >>> nearest_labels(r, 0.5).tolist()
+    [0, 0, -1]
+    """
+    r = np.asarray(residuals, dtype=float)
+    n = r.shape[1]
+    if r.shape[0] == 0:
+        return np.full(n, -1, dtype=np.intp)
+    r = np.where(np.isfinite(r), r, np.inf)
+    best = np.argmax(r <= r.min(axis=0) + TIE_TOLERANCE * threshold, axis=0).astype(np.intp)
+    best[~(r[best, np.arange(n)] < threshold)] = -1
+    return best
 
 
 def neighbour_graph(points, k: int) -> np.ndarray:
@@ -162,7 +204,8 @@ def coherent_labels(space, models, data, threshold: float, edges, weight: float,
         The cost of a pair of neighbours on different models, in units of an
         outlier's cost (0: each datum to its nearest model).
     labels : array_like of int, optional
-        The start (default: each datum's nearest model within the threshold).
+        The start (default: each datum's nearest model within the threshold,
+        :func:`nearest_labels`, whose tie rule it shares).
 
     Returns
     -------
@@ -192,7 +235,8 @@ def coherent_labels(space, models, data, threshold: float, edges, weight: float,
     r = space.residuals(models, data) / float(threshold)
     costs = np.vstack([np.where(r < 1.0, r * r, BEYOND_THRESHOLD), np.ones((1, n))])
     if labels is None:
-        start = np.argmin(costs, axis=0)
+        start = nearest_labels(r, 1.0)
+        start = np.where(start < 0, k, start)
     else:
         start = np.asarray(labels, dtype=np.intp)
         start = np.where(start < 0, k, start)

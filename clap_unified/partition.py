@@ -23,17 +23,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from .coherence import coherent_labels, neighbour_graph
+from .coherence import coherent_labels, nearest_labels, neighbour_graph
 
 __all__ = ["assign_labels", "finish_partition", "label_cost_energy", "refine_hypotheses",
            "refit_partition", "select_by_label_cost", "select_models"]
-
-#: Residuals within this fraction of the threshold of a datum's smallest are a tie, which
-#: goes to the first model. A datum of two models' minimal samples has a residual of
-#: rounding size (1e-13) on both; which of the two is smaller is the last bit of a float
-#: and differs between BLAS builds, so it must not decide the label.
-TIE_TOLERANCE = 1e-9
-
 
 def assign_labels(space, models, data, threshold: float) -> np.ndarray:
     """Label of each datum: the model with the smallest residual, if below ``threshold``.
@@ -61,16 +54,10 @@ def assign_labels(space, models, data, threshold: float) -> np.ndarray:
     >>> assign_labels(LineSpace(), lines, pts, 0.5).tolist()
     [0, 1, -1]
     """
-    n = len(data)
     models = np.asarray(models)
     if len(models) == 0:
-        return np.full(n, -1, dtype=np.intp)
-    r = space.residuals(models, data)
-    with np.errstate(invalid="ignore"):
-        best = np.argmax(r <= r.min(axis=0) + TIE_TOLERANCE * threshold, axis=0)
-        labels = best.astype(np.intp)
-        labels[~(r[best, np.arange(n)] < threshold)] = -1
-    return labels
+        return np.full(len(data), -1, dtype=np.intp)
+    return nearest_labels(space.residuals(models, data), threshold)
 
 
 def select_models(space, candidates, data, threshold: float, min_support: int,

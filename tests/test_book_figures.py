@@ -515,3 +515,21 @@ def test_an_unused_middle_slot_fails_and_a_short_last_row_passes():
     cell = _cell("show_grid()", _figure_png(lambda f: _grid(f, hole=4), figsize=(8, 4.8)))
     defects = figure_defects({"cells": [cell]}, library={}, rc=_book_rc(), texts={})
     assert any("unused grid slot (row 2, column 2)" in d for d in defects), defects
+
+
+def test_a_pose_marker_off_the_field_widens_the_view_instead_of_being_cut():
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from clap_unified.maps.field import load_field
+    from clap_unified.viz import draw_field, draw_pose
+
+    fig, ax = plt.subplots()
+    draw_field(ax, load_field("adult"))
+    (x0, x1), (y0, y1) = ax.get_xlim(), ax.get_ylim()
+    draw_pose(ax, [[0.0, y1 - 0.1, np.pi / 2]], size=1.0)   # points up, past the top edge
+    assert ax.get_ylim()[1] > y1 + 0.8 and ax.get_ylim()[0] == y0
+    assert ax.get_xlim() == (x0, x1)                           # never narrowed, nor widened
+    plt.close(fig)

@@ -563,3 +563,24 @@ def test_a_table_cell_keeps_a_number_and_its_unit_together():
              "headline": "mean error CLAP (paper) 17.9 %, at 10 px", "sensitivity": []}
     row = claims_markdown([entry], details=False).splitlines()[2]
     assert "17.9\u00a0%" in row and "10\u00a0px" in row and "17.9 %" not in row
+
+
+def test_a_protocol_without_wrong_poses_says_it_cannot_test_the_spurious_half():
+    # under the gate neither method returns a wrong pose: the headline and the verdict's
+    # explanation must say that the claim's second half is untested, not just print 0.00
+    outputs = _outputs_3d(0.76, 0.89, 0.0)
+    claim = _claim(evaluate_claims(outputs), "3d_spurious")
+    assert "untested" in claim["headline"]
+    assert "cannot show the claim's second half" in claim["explanation"]
+    assert "No variant here" in claim["explanation"]
+    # a variant with wrong poses that are not the mirror image is named with its shares
+    far = {k: dict(v, wrong=0.05 if k.startswith("ransac") else 0.0)
+           for k, v in outputs["localization3d"]["numbers"].items()}
+    outputs["localization3d"]["variants"]["far"] = {"label": "a front end", "kind": "extension",
+                                                    "numbers": far}
+    claim = _claim(evaluate_claims(outputs), "3d_spurious")
+    assert "a front end (largest share: CLAP (that row) 0.00, RANSAC 0.05" in claim["explanation"]
+    # with wrong poses on the protocol itself, the shares are the headline and no excuse is made
+    outputs["localization3d"]["numbers"] = far
+    claim = _claim(evaluate_claims(outputs), "3d_spurious")
+    assert claim["headline"].endswith("RANSAC 0.05") and not claim["explanation"]

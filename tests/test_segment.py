@@ -365,3 +365,28 @@ def test_a_datum_on_two_models_goes_to_the_first_whatever_the_last_bits():
     assert assign_labels(LineSpace(), lines, pts, 0.5).tolist() == [0, 0, 1]
     nan = np.array([[np.nan, np.nan]])
     assert assign_labels(LineSpace(), nan, pts, 0.5).tolist() == [-1, -1, -1]
+
+
+def test_the_coherent_labelling_starts_from_the_same_tie_rule():
+    # with no coherence (weight 0) the labelling is its start: it must break the
+    # last-bit tie as assign_labels does, not by whichever residual is smaller
+    from clap_unified.coherence import coherent_labels, neighbour_graph
+
+    lines = np.array([[np.pi / 2, 1e-13], [np.pi / 4, 0.0]])
+    pts = np.array([[0.0, 0.0], [3.0, 0.0], [-2.0, 2.0]])
+    edges = neighbour_graph(pts, 1)
+    assert coherent_labels(LineSpace(), lines, pts, 0.5, edges, 0.0).tolist() == [0, 0, 1]
+
+
+def test_a_model_with_no_residual_does_not_take_the_data_of_another():
+    # a non-finite residual explains nothing: it must not hide the nearer model
+    lines = np.array([[np.pi / 2, 0.0], [np.pi / 2, 5.0]])
+    pts = np.array([[0.0, 4.9], [1.0, 0.1]])
+
+    class Half(LineSpace):
+        def residuals(self, models, data):
+            r = super().residuals(models, data)
+            r[0, 0] = np.nan
+            return r
+
+    assert assign_labels(Half(), lines, pts, 0.5).tolist() == [1, 0]

@@ -726,11 +726,34 @@ def _at_highest_ratio(numbers, methods, what):
     return f"{what} at {float(top):.0%} false: {shares}"
 
 
-def _most_wrong(numbers):
+def _most_wrong(numbers, what="largest share of wrong poses above 50 % false: "):
+    """Each method's largest share of wrong poses above 50 % false detections.
+
+    Examples
+    --------
+    >>> n = {f"{m}@0.80": {"wrong": w} for m, w in (("clap", 0.0), ("ransac", 0.05))}
+    >>> _most_wrong(n, "")
+    'CLAP 0.00, RANSAC 0.05'
+    """
     high = _high_ratios(numbers)
     worst = {m: max(numbers[f"{m}@{o}"]["wrong"] for o in high) for m in ("clap", "ransac")}
-    return (f"largest share of wrong poses above 50 % false: CLAP {worst['clap']:.2f}, "
-            f"RANSAC {worst['ransac']:.2f}")
+    return f"{what}CLAP {worst['clap']:.2f}, RANSAC {worst['ransac']:.2f}"
+
+
+def _most_wrong_on_protocol(numbers):
+    """:func:`_most_wrong`, or, when neither method returns a wrong pose, that the protocol
+    then cannot test the claim's second half (:func:`_explain_3d_spurious`).
+
+    Examples
+    --------
+    >>> _most_wrong_on_protocol({f"{m}@0.80": {"wrong": 0.0} for m in ("clap", "ransac")})
+    'no wrong pose above 50 % false for either: the gate leaves none, half the claim untested'
+    """
+    high = _high_ratios(numbers)
+    if all(numbers[f"{m}@{o}"]["wrong"] == 0 for m in ("clap", "ransac") for o in high):
+        return "no wrong pose above 50 % false for either: the gate leaves none, half the " \
+               "claim untested"
+    return _most_wrong(numbers)
 
 
 def _blocking_breakdowns(v, a, b) -> str:
@@ -811,7 +834,7 @@ def claim_title(key: str) -> str:
 HEADLINES = {
     "3d_outliers": (CLAIM_TITLES["3d_outliers"],
                     lambda n: _at_highest_ratio(n, ("clap", "ransac"), "correct")),
-    "3d_spurious": (CLAIM_TITLES["3d_spurious"], _most_wrong),
+    "3d_spurious": (CLAIM_TITLES["3d_spurious"], _most_wrong_on_protocol),
     "vpg_lie": (CLAIM_TITLES["vpg_lie"],
                 lambda n: _pairs_per_set(n, "closer", "farther", f"pairs closer to the truth "
                                          f"(by more than {CLOSER:g}x)")),
@@ -843,6 +866,7 @@ HEADLINES = {
 #: Per claim whose headline explains its count: the column header of its alternatives' table
 #: (said once) and the number of each row without the explanation.
 ROW_HEADLINES = {
+    "3d_spurious": ("largest share of wrong poses above 50 % false", lambda n: _most_wrong(n, "")),
     "vpg_lie": (f"pairs closer to the truth (by more than {CLOSER:g}x)",
                 lambda n: _pairs_per_set(n, "closer", "farther")),
     "stitching_stable": (f"pairs varying less over the seeds (the distance to the truth "
@@ -1066,7 +1090,7 @@ def _drops_2d(numbers: dict, top: str) -> str:
             f"shares compared are of different frames")
 
 
-def _explain_2d(numbers: dict) -> str:
+def _explain_2d(numbers: dict, outputs: dict | None = None) -> str:
     """The 2D outlier claim's two halves in words, from its numbers."""
     robust, no_worse, best, top, behind = _halves_2d(numbers)
 
@@ -1088,8 +1112,85 @@ def _explain_2d(numbers: dict) -> str:
     return f"{first}; {second}."
 
 
-#: Per claim, a sentence that explains the verdict from the numbers (its rule's halves).
-EXPLAIN = {"2d_outliers": _explain_2d}
+def _explain_3d_spurious(numbers: dict, outputs: dict | None = None) -> str:
+    """Claim 3d_spurious explained from its numbers: when neither method returns a wrong pose
+    on the protocol, its second half cannot be seen there; the verdict then rests on the
+    first, and the variants of ``outputs`` whose wrong poses are not the mirror image (the
+    only ones that test the second half) are named with their shares.
+
+    Examples
+    --------
+    >>> n = {f"{m}@{o}": {"ok": ok, "wrong": 0.0, "mirror": 0.0, "none": 0.0, "n": 80}
+    ...      for m, o, ok in (("clap", "0.60", 0.93), ("ransac", "0.60", 0.93),
+    ...                       ("clap", "0.80", 0.76), ("ransac", "0.80", 0.89))}
+    >>> far = {f"{m}@0.80": {"ok": 0.5, "wrong": w, "mirror": 0.0, "none": 0.0, "n": 80}
+    ...        for m, w in (("clap", 0.01), ("ransac", 0.05))}
+    >>> out = {"localization3d": {"variants": {"v": {"label": "a front end", "kind":
+    ...        "extension", "numbers": far}}}}
+    >>> print(_explain_3d_spurious(n, out))
+    neither method returns a wrong pose at any ratio above 50 % (largest share: CLAP 0.00,
+    RANSAC 0.00): the protocol's gate keeps only candidates near a guess close to the truth,
+    so this protocol cannot show the claim's second half (RANSAC converging to spurious
+    solutions), and the verdict rests on the first half, which fails: CLAP is correct in 0.76
+    of the frames at 80% false (RANSAC 0.89), below 0.8 and below RANSAC by that test. Wrong
+    poses other than the mirror image occur only in these variants: a front end (largest
+    share: CLAP (that row) 0.01, RANSAC 0.05; the two-proportion test does not tell them
+    apart).
+    """
+    high = _high_ratios(numbers)
+    if not high:
+        return ""
+
+    def worst(n, m, far=False):
+        """Largest share of wrong poses (``far``: other than the mirror image) above 50 %."""
+        return max(n[f"{m}@{o}"]["wrong"] - (n[f"{m}@{o}"].get("mirror", 0.0) if far else 0.0)
+                   for o in _high_ratios(n))
+
+    if worst(numbers, "clap") > 0 or worst(numbers, "ransac") > 0:
+        return ""
+    low = min(high, key=lambda o: numbers[f"clap@{o}"]["ok"])
+    a, b = numbers[f"clap@{low}"], numbers[f"ransac@{low}"]
+    short = a["ok"] < 0.8
+    behind = rates_differ(a["ok"], a["n"], b["ok"], b["n"]) < 0
+    why = " and ".join(w for w, on in (("below 0.8", short), ("below RANSAC by that test",
+                                                               behind)) if on)
+    consistent = all(numbers[f"clap@{o}"]["ok"] >= 0.8 and rates_differ(
+        numbers[f"clap@{o}"]["ok"], numbers[f"clap@{o}"]["n"], numbers[f"ransac@{o}"]["ok"],
+        numbers[f"ransac@{o}"]["n"]) >= 0 for o in high)
+    first = ("which holds: CLAP is correct in at least 0.8 of the frames at every ratio and "
+             "nowhere below RANSAC" if consistent else
+             f"which fails: CLAP is correct in {a['ok']:.2f} of the frames at "
+             f"{float(low):.0%} false (RANSAC {b['ok']:.2f}), {why}")
+    text = ("neither method returns a wrong pose at any ratio above 50 % (largest share: "
+            "CLAP 0.00, RANSAC 0.00): the protocol's gate keeps only candidates near a guess "
+            "close to the truth, so this protocol cannot show the claim's second half (RANSAC "
+            f"converging to spurious solutions), and the verdict rests on the first half, "
+            f"{first}.")
+    far = []
+    for v in ((outputs or {}).get("localization3d", {}).get("variants") or {}).values():
+        n = v.get("numbers")
+        if v.get("kind") == "control" or not n or not _high_ratios(n):
+            continue
+        c, r = worst(n, "clap", far=True), worst(n, "ransac", far=True)
+        if c > 1e-9 or r > 1e-9:
+            tell = ("the two-proportion test does not tell them apart" if rates_differ(
+                r, n[f"ransac@{_high_ratios(n)[0]}"]["n"], c,
+                n[f"clap@{_high_ratios(n)[0]}"]["n"]) == 0 else
+                "more for RANSAC by the two-proportion test" if r > c else
+                "more for CLAP by the two-proportion test")
+            far.append(f"{v['label']} (largest share: CLAP (that row) {c:.2f}, RANSAC {r:.2f}; "
+                       f"{tell})")
+    if far:
+        text += (" Wrong poses other than the mirror image occur only in these variants: "
+                 + "; ".join(far) + ".")
+    else:
+        text += " No variant here has wrong poses other than the mirror image."
+    return text
+
+
+#: Per claim, a sentence that explains the verdict from the numbers (its rule's halves) and,
+#: where it needs them, the experiments' outputs (their variants).
+EXPLAIN = {"2d_outliers": _explain_2d, "3d_spurious": _explain_3d_spurious}
 
 
 def judge_variants(claim: Claim, outputs: dict) -> list[dict]:
@@ -1344,7 +1445,7 @@ def evaluate_claims(outputs: dict, skipped: dict | None = None) -> list[dict]:
             entry.update(verdict=verdict, measured=_qualify(measured, c.clap_name),
                          numbers=numbers)
             if c.key in EXPLAIN and numbers:
-                entry["explanation"] = EXPLAIN[c.key](numbers)
+                entry["explanation"] = _qualify(EXPLAIN[c.key](numbers, outputs), c.clap_name)
             rows = judge_variants(c, outputs)
         title, headline = HEADLINES.get(c.key, ("", None))
         entry["title"] = title or c.key

@@ -85,12 +85,20 @@ def draw_pose(ax, poses, *, color="k", size: float = 0.5, label=None, alpha: flo
         xyt = np.stack([P[:, 0, 2], P[:, 1, 2], np.arctan2(P[:, 1, 0], P[:, 0, 0])], -1)
     else:
         xyt = P.reshape(-1, 3)
+    corners = []
     for k, (x, y, t) in enumerate(xyt):
         c, s = np.cos(t), np.sin(t)
         tri = np.array([[size, 0.0], [-0.5 * size, 0.45 * size], [-0.5 * size, -0.45 * size]])
         pts = tri @ np.array([[c, s], [-s, c]]) + (x, y)
+        corners.append(pts)
         ax.add_patch(Polygon(pts, closed=True, fc=color, ec="k", lw=0.5, alpha=alpha,
                              zorder=zorder, label=label if k == 0 else None))
+    if corners:  # widen the view (never narrow it) so that no marker is cut at its edge
+        lo, hi = np.min(np.vstack(corners), 0) - 0.1 * size, np.max(np.vstack(corners), 0)
+        hi = hi + 0.1 * size
+        (x0, x1), (y0, y1) = ax.get_xlim(), ax.get_ylim()
+        ax.set_xlim(min(x0, lo[0]), max(x1, hi[0]))
+        ax.set_ylim(min(y0, lo[1]), max(y1, hi[1]))
     if fov is not None and len(xyt):
         x, y, t = xyt[0]
         angles = np.linspace(t - fov / 2, t + fov / 2, 30)
