@@ -14,7 +14,8 @@ gives a copy with some values overridden, each key routed to its part.
   ``"clap"``, bit for bit;
 * ``"paper"``: the paper's protocol (CLAP: Sec. "Image Stitching Results" as
   written; RANSAC and randomized Hough: the paper's baselines);
-* ``"densest"`` (CLAP on homographies): another reading of the paper;
+* ``"densest"`` (CLAP on homographies): CLAP (densest-cluster reading), another reading of
+  the paper (the first-order distance, trimming inside the densest cluster, polished);
 * ``"peer"`` (another library's estimator): reported as the peer returns it;
 * ``"own"``: no preset, the strategy's and :func:`~clap_unified.fit`'s own
   defaults;
@@ -303,9 +304,10 @@ def _homography_presets() -> tuple[Preset, ...]:
                fit={"n_hypotheses": 400, "threshold": t},
                options={"bandwidth_quantile": 0.02, "rounds": 5, "discard_fraction": 0.2},
                protocol="clap_densest",
-               label="another reading of it: trimming inside the densest cluster, polished",
-               summary="another reading of the paper: trimming inside the densest "
-                       "cluster, polished"),
+               label="the densest-cluster reading of it: the first-order distance, "
+                     "trimming inside the densest cluster, polished",
+               summary="CLAP (densest-cluster reading), another reading of the paper: the "
+                       "first-order distance, trimming inside the densest cluster, polished"),
         Preset("default", "homography", "ransac", space={"frame": False, "polish": False},
                fit={"n_hypotheses": 1000, "threshold": t}, protocol="ransac",
                aliases=("paper",),

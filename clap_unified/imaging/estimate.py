@@ -35,8 +35,8 @@ preset="paper")``:
   discarding the 20 % farthest from the current medoid; then the same
   re-estimation as RANSAC's, a DLT refit on the data inliers of the centre
   (no polish);
-* ``"clap_densest"`` (another reading of the same words, kept
-  for comparison): the candidates compared by the first-order distance
+* ``"clap_densest"`` (CLAP (densest-cluster reading), another reading of
+  the same words, kept for comparison): the candidates compared by the first-order distance
   ``"lie_linear"``, bandwidth the 2 % quantile of their 4-NN distances,
   the cluster with the most candidates, its robust centre by 5 rounds of
   trimming 20 % (medoid), then the DLT refit and a polish by reweighted DLT
@@ -144,7 +144,9 @@ def estimate_homography(matches, method: str = "clap", *, rng=None, quality=None
         (e.g. ``neighbourhood``, ``bandwidth_quantile``, ``centre``,
         ``cell_size``, ``confidence``). With ``"clap_paper"``,
         ``neighbourhood="bandwidth"`` trims inside the densest cluster instead
-        (bandwidth from ``bandwidth_quantile``).
+        (bandwidth from ``bandwidth_quantile``): CLAP (paper), trimmed in the
+        densest cluster, which keeps the paper's distance and has no polish,
+        unlike ``"clap_densest"``.
 
     Returns
     -------

@@ -83,7 +83,8 @@ DEVIATIONS = [
               "by discarding outliers based on fractional trimming",
      "here": "over all 400 candidates: their medoid, then 5 rounds each keeping the 80 % "
              "nearest the current medoid and taking their medoid (`neighbourhood='all'`); "
-             "an alternative trims inside the densest cluster instead",
+             "an alternative, CLAP (paper) trimmed in the densest cluster, trims inside the "
+             "densest cluster instead (the paper's distance, no polish)",
      "why": "unspecified in the paper: the centre (the medoid, the first centre the paper "
             "lists) and what is trimmed (the words name no neighbourhood or bandwidth, so "
             "all candidates)"},
@@ -129,9 +130,10 @@ VARIANTS = (
     Variant("polish_clap_only", "CLAP alone ends with the reweighted-DLT polish "
             "(unequal: RANSAC as in the primary)",
             "sensitivity", {"polish": True}),
-    Variant("clap_densest", "CLAP by another reading of the paper's words (first-order "
-            "distance, trimming inside the densest cluster, polish for CLAP only); RANSAC as "
-            "in the primary (unequal: RANSAC gets no polish)", "sensitivity",
+    Variant("clap_densest", "CLAP (densest-cluster reading), another reading of the paper's "
+            "words: the first-order distance, trimming inside the densest cluster and a polish "
+            "for CLAP only; RANSAC as in the primary (unequal: RANSAC gets no polish)",
+            "sensitivity",
             {"method": "clap_densest"}),
     Variant("lie_linear", "CLAP clusters by the first-order distance "
             "(||Hn1^-1 Hn2 - I||_F + ||Hn2^-1 Hn1 - I||_F) / 2 instead of the logarithm",
@@ -139,22 +141,23 @@ VARIANTS = (
     Variant("lie_exact", "CLAP clusters by the exact logarithm for every pair of candidates "
             "(no first-order value for far pairs)", "sensitivity", {"screen": np.inf},
             costly=True),
-    Variant("trim_in_cluster", "CLAP trims inside the densest cluster (seed with the most "
-            "candidates within a bandwidth, the 2 % quantile of the 4-NN distances; at least "
-            "3 members) instead of over all candidates", "sensitivity", _TRIM_IN_CLUSTER),
-    Variant("bandwidth_half", "CLAP trimming inside the densest cluster, with the "
+    Variant("trim_in_cluster", "CLAP (paper), trimmed in the densest cluster: the paper's "
+            "distance and no polish, trimming inside the cluster seeded where the most "
+            "candidates lie within a bandwidth (the 2 % quantile of the 4-NN distances; at "
+            "least 3 members) instead of over all candidates", "sensitivity", _TRIM_IN_CLUSTER),
+    Variant("bandwidth_half", "CLAP (paper), trimmed in the densest cluster, with the "
             "bandwidth quantile halved (1 %; the "
             "primary, over all candidates, has no bandwidth)", "sensitivity",
             {**_TRIM_IN_CLUSTER, "bandwidth_quantile": 0.01}),
-    Variant("bandwidth_double", "CLAP trimming inside the densest cluster, with the "
+    Variant("bandwidth_double", "CLAP (paper), trimmed in the densest cluster, with the "
             "bandwidth quantile doubled (4 %; the "
             "primary, over all candidates, has no bandwidth)", "sensitivity",
             {**_TRIM_IN_CLUSTER, "bandwidth_quantile": 0.04}),
-    Variant("min_support_half", "CLAP trimming inside the densest cluster, with the "
+    Variant("min_support_half", "CLAP (paper), trimmed in the densest cluster, with the "
             "minimum support of a cluster lowered "
             "from 3 to 2 candidates (the primary, over all candidates, has none)", "sensitivity",
             {**_TRIM_IN_CLUSTER, "min_support": 2}),
-    Variant("min_support_double", "CLAP trimming inside the densest cluster, with the "
+    Variant("min_support_double", "CLAP (paper), trimmed in the densest cluster, with the "
             "minimum support of a cluster raised "
             "from 3 to 6 candidates (the primary, over all candidates, has none)", "sensitivity",
             {**_TRIM_IN_CLUSTER, "min_support": 6}),
