@@ -308,9 +308,14 @@ def test_line_fitting_grid_text_names_every_failure_of_its_table():
     finest = min(float(r["rho step"]) for r in rows)
     said = glued.get("grid_hi_other_fails", "")
     assert _cites(prose, "grid_hi_other_fails") and _cites(prose, "grid_fails_hi_fine")
-    for r in failing:
-        if float(r["rho step"]) != finest:
-            assert f"in {r[fail_col]} with step {r['rho step']}" in said, (r, said)
+    others = [r for r in failing if float(r["rho step"]) != finest]
+    for k, r in enumerate(others):
+        n = int(r[fail_col])
+        noun = (" scene" if n == 1 else " scenes") if k == 0 else ""  # "in 1 scene with ..."
+        assert f"in {n}{noun} with step {r['rho step']}" in said, (r, said)
+    # the sentence reads "further failures, in 1 scene with step ...", the noun after the
+    # number it counts, not "... in 4 with step 1.500 scenes"
+    assert "`grid_hi_other_fails` scenes" not in prose
 
 
 def test_line_fitting_says_both_differences_of_randomized_hough_and_clap():
