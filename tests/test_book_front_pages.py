@@ -158,3 +158,16 @@ def test_the_front_page_says_what_clap_is_and_maps_the_book_before_the_claims():
     # the claims' machinery (the table, alternatives, controls) comes after the chapter map
     for word in ("claims_markdown(", "{term}`two-proportion test`", "Controls are"):
         assert text.index(word) > read, word
+
+
+def test_the_guide_rows_on_tracking_and_match_quality_agree_with_their_numbers():
+    """The tracking row chose "either method" beside RANSAC 53 against CLAP (paper) 39 of 60
+    frames; the match-quality row set CLAP with the ratio against a peer without it, unsaid."""
+    guide = (BOOK / "choosing.md").read_text()
+    track = next(line for line in guide.splitlines() if line.startswith("| a prior: tracking"))
+    assert "either method with the prior's gate" not in track
+    assert "c4_track_choose" in track
+    quality = next(line for line in guide.splitlines()
+                   if line.startswith("| matches with a quality"))
+    assert "only CLAP had the ordering" in quality
+    assert "evd_kept_ransaco" in quality and "PROSAC" in quality
