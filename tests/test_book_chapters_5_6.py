@@ -495,3 +495,26 @@ def test_ch5_ordering_is_given_to_ransac_too_and_the_evd_counts_are_explained():
     assert "{glue:text}`evd_claim_words`" in md
     assert "the leak lowers both medians" not in md
     assert "{glue:text}`leak_words`" in md and "{glue:text}`leak_hard_words`" in md
+
+def mosaic_text_defects(prose: str, glued: dict) -> list[str]:
+    """Chapter 6 names the pairs on which CLAP (paper)'s inlier ratio is far below RANSAC's
+    (``real_low``); the text of the mosaics must say, for each, whether its mosaic is drawn
+    (each set's tile is one pair), or a clean-looking tile passes for a clean estimate."""
+    if "{glue:text}`real_low_tiles`" not in prose:
+        return ["the mosaics' text does not say which of the low pairs are drawn"]
+    low = re.findall(r"(\w+ \d+-\d+) \(", glued.get("real_low", ""))
+    tiles = glued.get("real_low_tiles", "")
+    return [p for p in low if not re.search(rf"{re.escape(p)} is (not )?drawn", tiles)]
+
+
+def test_chapter6_mosaics_say_what_they_show_for_the_failed_pairs():
+    nb = _load(CH6)
+    prose = "".join(_text(c["source"]) for c in nb["cells"] if c["cell_type"] == "markdown")
+    glued = glued_values(nb)
+    assert re.findall(r"(\w+ \d+-\d+) \(", glued["real_low"])  # the check has pairs to check
+    assert mosaic_text_defects(prose, glued) == []
+    old = prose.replace("{glue:text}`real_low_tiles`", "")
+    assert mosaic_text_defects(old, glued)
+    caption = next(c["metadata"]["mystnb"]["figure"]["caption"] for c in nb["cells"]
+                   if "tiles" in _text(c["source"]) and "imshow" in _text(c["source"]))
+    assert "red frame" in caption

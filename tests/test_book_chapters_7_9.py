@@ -710,3 +710,55 @@ def test_chapter8_exercise3_prints_whole_lines():
     text = _cell_text(_load("06_performance"), "# 3. local mode")
     for line in text.splitlines():
         assert len(line) <= 88 and line.count("(") == line.count(")"), line
+
+
+
+def barrsmith_defects(prose: str, glued: dict, per_sequence: list[list[str]]) -> list[str]:
+    """Chapter 7's four-panel figure of barrsmith and its table of errors per sequence give
+    different errors for the same sequence (one run at the default threshold against a mean
+    over seeds at each method's best threshold): the text must cite both and say why."""
+    if "{glue:text}`mm_barr_why`" not in prose:
+        return ["the text does not say why the figure's barrsmith errors differ from the table's"]
+    why = glued.get("mm_barr_why", "")
+    row = next((r for r in per_sequence if r[0] == "barrsmith"), None)
+    defects = [] if row else ["no barrsmith row"]
+    shown = [glued.get("mm_barr_paper", "?"), glued.get("mm_barr_clap", "?")]  # the figure's
+    for value in shown + (row[1:3] if row else []):  # the table: the first two methods
+        if f"{float(value):.1f} %" not in why:
+            defects.append(f"{value} not in the explanation")
+    if "seed" not in why or "threshold" not in why:
+        defects.append("the explanation names neither the seeds nor the threshold")
+    return defects
+
+
+def test_chapter7_explains_why_the_barrsmith_figure_and_table_differ():
+    nb = _load("05c_many_answers")
+    table = next(t for c in nb["cells"] if c["cell_type"] == "code"
+                 and 'per = art["per_sequence"]' in _text(c["source"])
+                 for text in _outputs(c) for t in markdown_tables(text))
+    assert table[0][1:3] == ["CLAP (paper, raw clusters)", "CLAP (the library's)"]
+    assert barrsmith_defects(_prose(nb), glued_values(nb), table) == []
+    old = _prose(nb).replace("{glue:text}`mm_barr_why`", "")
+    assert barrsmith_defects(old, glued_values(nb), table)
+
+
+def left_out_and_inherited(answer: str) -> set[str]:
+    """Members exercise 3's answer lists both as left out of the ellipse and as inherited
+    unchanged: a contradiction."""
+    flat = " ".join(answer.split())
+    left = re.findall(r"Left out[^:]*: ([^.]*)\.", flat)
+    kept = re.search(r"inherits unchanged[^(]*\(([^)]*)\)", flat)
+    names = {n.strip() for part in left for n in part.split(",")}
+    return names & {n.strip() for n in kept.group(1).split(",")} if kept else names
+
+
+def test_chapter9_exercise3_leaves_nothing_out_that_it_calls_inherited():
+    nb = _load("07_your_data")
+    answer = next("".join(_outputs(c)) for c in nb["cells"]
+                  if "EllipseSpace()" in _text(c["source"]) and c.get("outputs"))
+    assert left_out_and_inherited(answer) == set()
+    old = ("Left out: CircleSpace's own predict, model_to_dict, default_threshold. Stayed: "
+           "the class's form (a HypothesisSpace subclass, the same members with the same "
+           "arguments) and every member it inherits unchanged (capabilities, declared, "
+           "default_cell_size, default_threshold, hough_grid, model_to_dict, refine).")
+    assert left_out_and_inherited(old) == {"model_to_dict", "default_threshold"}

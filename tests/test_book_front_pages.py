@@ -171,3 +171,39 @@ def test_the_guide_rows_on_tracking_and_match_quality_agree_with_their_numbers()
                    if line.startswith("| matches with a quality"))
     assert "only CLAP had the ordering" in quality
     assert "evd_kept_ransaco" in quality and "PROSAC" in quality
+
+def reproducibility_defects(intro: str, chapter_prose: dict[str, str]) -> list[str]:
+    """The front page's promise of what changes from build to build must leave room for
+    what a chapter warns of: a chapter that says its numbers can differ on another machine is
+    named, and linked, in the front page's "How to read this book"."""
+    read = intro.split("## How to read this book", 1)[-1].split("\n## ", 1)[0]
+    promise = next((p for p in read.split("\n\n") if "wall-clock" in p), "")
+    defects = []
+    for nb, prose in chapter_prose.items():
+        if "On another machine" in prose and (
+                "another machine" not in promise or f"chapters/{nb}" not in promise):
+            defects.append(nb)
+    return defects
+
+
+def test_the_front_page_says_what_can_change_on_another_machine():
+    chapters = {p.name: _prose(p.name) for p in sorted((BOOK / "chapters").glob("*.ipynb"))}
+    intro = (BOOK / "intro.md").read_text(encoding="utf-8")
+    assert "05c_many_answers.ipynb" in [k for k, v in chapters.items()
+                                        if "On another machine" in v]
+    assert reproducibility_defects(intro, chapters) == []
+    old = intro.split("## How to read this book")[0] + (
+        "## How to read this book\n\nEvery number is produced by seeded computation when the "
+        "book is built;\nonly wall-clock times change from build to build.\n")
+    assert reproducibility_defects(old, chapters) == ["05c_many_answers.ipynb"]
+
+
+def test_the_glossary_defines_the_terms_a_newcomer_met_undefined():
+    """ICP (chapter 4), MoCap (the front page's claims, chapter 4) and spatial coherence
+    (claim 9's protocol, chapter 7) were used without a definition anywhere."""
+    glossary = (BOOK / "glossary.md").read_text(encoding="utf-8")
+    terms = set(re.findall(r"^(\S[^\n]*)\n  \S", glossary, flags=re.M))
+    assert {"ICP", "MoCap", "spatial coherence"} <= terms
+    ch4, ch7 = _prose("04_localization_3d.ipynb"), _prose("05c_many_answers.ipynb")
+    assert "{term}`ICP`" in ch4 and "{term}`MoCap`" in ch4
+    assert "{term}`spatial coherence`" in ch7
