@@ -483,8 +483,7 @@ def test_the_quote_and_seed_checks_catch_the_old_text():
 def test_ch5_ordering_is_given_to_ransac_too_and_the_evd_counts_are_explained():
     """Ordering by match quality was given to CLAP (paper) only and credited with closing the
     gap; the library's RANSAC now runs with the same ordering beside it. The claims block's
-    EVD count (one run per pair) differs from the table's medians: the text says why. The
-    leak paragraph said "lowers both medians" where one of them rises."""
+    EVD count (one run per pair) differs from the table's medians: the text says why."""
     nb = _load(CH5)
     md = "".join(_text(c["source"]) for c in nb["cells"] if c["cell_type"] == "markdown")
     code = "".join(_text(c["source"]) for c in nb["cells"] if c["cell_type"] == "code")
@@ -493,8 +492,17 @@ def test_ch5_ordering_is_given_to_ransac_too_and_the_evd_counts_are_explained():
     assert "{glue:text}`evd_order_words`" in md
     assert 'quality=q.input.quality' in code and '"RANSAC (library) ordered"' in code
     assert "{glue:text}`evd_claim_words`" in md
-    assert "the leak lowers both medians" not in md
-    assert "{glue:text}`leak_words`" in md and "{glue:text}`leak_hard_words`" in md
+
+
+def test_ch5_never_hands_an_estimator_the_validation_points():
+    """Evaluation data never reaches an estimator, not even in a side check of what a leak
+    would change: no chapter builds an estimator's input from homogr's raw file rows (which
+    hold the validation points) or runs a "leaky" input."""
+    for path in sorted(CH5.parent.glob("*.ipynb")):
+        nb = _load(path)
+        code = "".join(_text(c["source"]) for c in nb["cells"] if c["cell_type"] == "code")
+        assert 'fetch("homography"' not in code, path.name
+        assert '"leaky"' not in code, path.name
 
 def mosaic_text_defects(prose: str, glued: dict) -> list[str]:
     """Chapter 6 names the pairs on which CLAP (paper)'s inlier ratio is far below RANSAC's
