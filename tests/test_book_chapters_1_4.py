@@ -252,8 +252,13 @@ def test_localization_3d_mirror_distance_order_and_bandwidths_are_said():
 
 
 def test_localization_2d_explains_the_rise_up_to_the_best_rate():
-    prose = "".join(markdown_cells(_notebook("03_localization_2d")))
-    assert _cites(prose, "c3_same_verdict") and _cites(prose, "c3_same_n")
+    """Every rate has the same frames: the change along the rates is judged by the claims'
+    paired test on the experiment's own frames, not by a side run on other frames."""
+    nb = _notebook("03_localization_2d")
+    prose = "".join(markdown_cells(nb))
+    assert _cites(prose, "c3_along_words") and not _cites(prose, "c3_same_n")
+    assert "frames_at_rates" in prose and "random_frames" not in "".join(
+        "".join(c["source"]) for c in nb["cells"])
 
 
 def _figure_meta(notebook: dict, name: str) -> dict:

@@ -6,6 +6,7 @@ import pytest
 from clap_unified.geometry import SE2
 from clap_unified.localization import (
     Camera,
+    frames_at_rates,
     load_field,
     localize2d,
     random_frames,
@@ -35,6 +36,36 @@ def scenes_with_false_positives(rate, n, seed, min_true=4):
 
 
 # ----------------------------------------------------------------- simulator
+def test_frames_at_rates_share_poses_and_true_detections_across_rates():
+    rates = [0.0, 0.3, 0.6]
+    per_rate = frames_at_rates(FIELD, 6, rates, rng=3)
+    assert [len(frames) for frames in per_rate] == [6, 6, 6]
+    for k in range(6):
+        frames = [per_rate[i][k] for i in range(3)]
+        true_rows = [sorted(map(tuple, f.input.data[~f.truth.is_false].tolist()))
+                     for f in frames]
+        assert true_rows[0] == true_rows[1] == true_rows[2]
+        assert len(true_rows[0]) >= 3
+        for f in frames[1:]:
+            np.testing.assert_array_equal(f.truth.pose, frames[0].truth.pose)
+        n_true = len(true_rows[0])
+        assert [int(f.truth.is_false.sum()) for f in frames] == [
+            round(n_true * r / (1 - r)) for r in rates]
+    again = frames_at_rates(FIELD, 6, rates, rng=3)
+    np.testing.assert_array_equal(again[2][5].input.data, per_rate[2][5].input.data)
+
+
+@pytest.mark.parametrize("rates, match", [([], "false_positive_rates"),
+                                          (0.3, "false_positive_rates"),
+                                          (None, "false_positive_rates"),
+                                          (["a"], "false_positive_rates"),
+                                          ([0.2, float("nan")], "false_positive_rates"),
+                                          ([1.0], "false_positive_rates")])
+def test_frames_at_rates_rejects_bad_rates(rates, match):
+    with pytest.raises(ValueError, match=match):
+        frames_at_rates(FIELD, 2, rates, rng=0)
+
+
 def test_simulator_is_seeded_and_counts_false_positives():
     truth = SE2.from_xytheta(3.0, 1.0, 0.2)
     a = simulate_observations(FIELD, truth, false_positive_rate=0.4, rng=5)

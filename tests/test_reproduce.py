@@ -331,6 +331,24 @@ def test_evd_rule_counts_pairs():
     assert _judge_evd({"homography_evd": {"tables": {"lie": rows}}})[0] == "not reproduced"
 
 
+def test_evd_counts_the_pairs_won_where_both_fail():
+    """Claim 6: a pair RANSAC is "closer" on while both keep almost none of the labelled
+    inliers is not a win that shows robustness; the count says how many such pairs it holds."""
+    from clap_unified.reproduce.claims import HEADLINES
+
+    both_lost = {"CLAP": (900.0, 0.0), "RANSAC": (300.0, 0.05)}   # both under 10 %
+    ransac_right = {"CLAP": (900.0, 0.0), "RANSAC": (2.0, 0.8)}
+    verdict, measured, n = _judge_evd({"homography_evd": {"tables": {"lie": _lie_rows(
+        [both_lost, both_lost, ransac_right])}}})
+    assert verdict == "not reproduced"
+    assert (n["farther"], n["farther_both_failed"], n["closer_both_failed"]) == (3, 2, 0)
+    assert "both fail, each keeping fewer than 10% of the labelled inliers" in measured
+    assert "on 0 of CLAP's and 2 of RANSAC's" in measured
+    assert HEADLINES["stitching_outliers"][1](n) == (
+        "pairs closer to the truth (by more than 1.1x): CLAP 0, RANSAC 3 (2 of them where "
+        "both fail) of 3")
+
+
 def _sre_rows(pairs):
     return [{"pair": f"p{i}", "method": m, "sre_common_px": e, "inlier_ratio": q}
             for i, d in enumerate(pairs) for m, (e, q) in d.items()]
@@ -349,6 +367,40 @@ def test_similar_accuracy_rule(clap, verdict):
     assert _judge_real(outputs)[0] == verdict
 
 
+def with_frames_2d(numbers: dict) -> dict:
+    """``numbers`` of a 2D rate table with ``ok_by_frame`` added: the correct frames of each
+    ``method@rate`` are the first ones (so every pair of rates and methods is as alike as
+    their shares allow: the paired test's most favourable case for telling them apart)."""
+    frames = {}
+    for key, v in numbers.items():
+        if "@" in key:
+            k = round(v["ok"] * v["n"])
+            frames[key] = "1" * k + "0" * (v["n"] - k)
+    return {**numbers, "ok_by_frame": frames}
+
+
+def test_paired_differ_counts_only_the_frames_where_the_two_differ():
+    from clap_unified.reproduce.claims import paired_differ
+
+    # the same shares, 0.75 and 0.65 on 100 frames: a clear difference when the 10 extra
+    # successes are the only frames that differ, noise when 25 go one way and 15 the other
+    assert paired_differ("1" * 75 + "0" * 25, "1" * 65 + "0" * 35) == 1
+    assert paired_differ("1" * 25 + "0" * 15 + "1" * 50 + "0" * 10,
+                         "0" * 25 + "1" * 15 + "1" * 50 + "0" * 10) == 0
+    assert paired_differ("1" * 90 + "0" * 10, "1" * 80 + "0" * 20) == -paired_differ(
+        "1" * 80 + "0" * 20, "1" * 90 + "0" * 10)
+    assert paired_differ([True] * 97 + [False] * 3, "1" * 100) == 0  # below the margin
+    with pytest.raises(ValueError, match="a, b"):
+        paired_differ("101", "10")
+    with pytest.raises(ValueError, match="a, b"):
+        paired_differ("", "")
+    with pytest.raises(ValueError, match="a: expected one outcome per trial"):
+        paired_differ("x1", "01")
+    with pytest.raises(ValueError, match="b: expected"):
+        paired_differ("01", {"ok": 0.5, "n": 2})
+    assert paired_differ("11", "00") == 0  # two trials are not evidence
+
+
 def test_2d_rules():
     def numbers(clap_ok, ransac_ok):
         n = {}
@@ -357,7 +409,7 @@ def test_2d_rules():
             for m, ok in oks:
                 n[f"{m}@{rate}"] = {"ok": ok, "n": 300, "gross": 0.0, "median_cm": 3.0}
         n["symmetry"] = {"frames": 10, "pose_and_mirror_tied": 0.9}
-        return {"localization2d": {"numbers": n}}
+        return {"localization2d": {"numbers": with_frames_2d(n)}}
 
     assert _judge_2d(numbers((0.9, 0.9, 0.9), (0.9, 0.9, 0.9)))[0] == "reproduced"
     assert _judge_2d(numbers((0.9, 0.9, 0.6), (0.9, 0.9, 0.9)))[0] == "not reproduced"

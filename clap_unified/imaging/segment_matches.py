@@ -24,7 +24,7 @@ from ..segmenting import segment
 from ..spaces.fundamental import FundamentalSpace
 from ..spaces.homography import HomographySpace
 
-__all__ = ["SEGMENT_DEFAULTS", "SPACES", "evaluate_adelaidermf", "explain_errors",
+__all__ = ["SEGMENT_DEFAULTS", "SPACES", "evaluate_adelaidermf", "explain_errors", "trial_order",
            "segment_matches", "segment_preset"]
 
 #: Space of each kind of match segmentation, built for the matches (hypotheses compared in
@@ -112,6 +112,24 @@ def segment_matches(matches, kind: str = "homography", method: str = "clap", *,
                    n_hypotheses=n_hypotheses, coherence=coherence, **options)
 
 
+def trial_order(n: int, seed: int) -> np.ndarray:
+    """The order of ``n`` matches in the trial ``seed`` of an AdelaideRMF evaluation.
+
+    OpenCV's estimators (the MAGSAC++ loop) are deterministic for a given list of
+    matches but depend on its order; a trial is one seed of the library's
+    estimators *and* one order of the matches, so every method gets as many
+    different runs as there are seeds. The truth labels are permuted alike.
+
+    Examples
+    --------
+    >>> trial_order(5, 0).tolist() == trial_order(5, 0).tolist()
+    True
+    >>> sorted(trial_order(5, 1).tolist())
+    [0, 1, 2, 3, 4]
+    """
+    return np.random.default_rng([int(seed), 0x5EED]).permutation(int(n))
+
+
 def evaluate_adelaidermf(kind: str = "homography", methods=("clap",), *, thresholds=None,
                          seeds=(0,), names=None, options=None, progress: bool = False):
     """Each method on each AdelaideRMF sequence, scored by the misclassification error.
@@ -123,6 +141,8 @@ def evaluate_adelaidermf(kind: str = "homography", methods=("clap",), *, thresho
     thresholds : sequence of float, optional
         Default: the kind's default threshold only.
     seeds : sequence of int
+        One trial per seed: the seed of the library's estimators and of the order of the
+        matches (:func:`trial_order`), the same for every method.
     names : sequence of str, optional
         Sequences (default all present).
     options : dict, optional
@@ -154,13 +174,14 @@ def evaluate_adelaidermf(kind: str = "homography", methods=("clap",), *, thresho
         if name not in pairs:
             pairs = {name: load_adelaidermf(name, kind, images=False)}
         pair = pairs[name]
+        order = trial_order(len(pair.truth.labels), seed)
         t0 = time.perf_counter()
-        res = segment_matches(pair.input.matches, kind, method, threshold=t, rng=seed,
-                              **options.get(method, {}))
+        res = segment_matches(np.asarray(pair.input.matches)[order], kind, method,
+                              threshold=t, rng=seed, **options.get(method, {}))
         seconds = time.perf_counter() - t0
         rows.append({"sequence": name, "method": method, "threshold": float(t),
-                     "seed": int(seed), "error": misclassification_error(res.labels,
-                                                                         pair.truth.labels),
+                     "seed": int(seed), "error": misclassification_error(
+                         res.labels, np.asarray(pair.truth.labels)[order]),
                      "models": res.n_models, "true_models": pair.truth.n_structures,
                      "seconds": seconds})
     return rows
@@ -223,7 +244,9 @@ def explain_errors(kind: str = "homography", *, threshold: float, seed: int = 0,
     rows = []
     for name in names:
         pair = load_adelaidermf(name, kind, images=False)
-        matches, truth = pair.input.matches, pair.truth.labels
+        order = trial_order(len(pair.truth.labels), seed)  # the trial evaluate_adelaidermf ran
+        matches = np.asarray(pair.input.matches)[order]
+        truth = np.asarray(pair.truth.labels)[order]
         res = segment_matches(matches, kind, "clap", threshold=threshold, rng=seed, **options)
         space, data = res.space, np.asarray(matches, dtype=float)
         min_support = options.get("min_support") or default_min_support(space, len(data))

@@ -28,8 +28,8 @@ from ..datatypes import freeze_arrays, readonly
 from ..geometry.se2 import SE2
 from ..maps.field import LANDMARK_TYPES, Field
 
-__all__ = ["Camera", "Observations", "ObservationInput", "ObservationTruth", "random_frames",
-           "simulate_observations", "visible_landmarks", "FALSE_POSITIVE_KINDS"]
+__all__ = ["Camera", "Observations", "ObservationInput", "ObservationTruth", "frames_at_rates",
+           "random_frames", "simulate_observations", "visible_landmarks", "FALSE_POSITIVE_KINDS"]
 
 FALSE_POSITIVE_KINDS = ("random", "wrong_type", "neighbour")
 
@@ -385,4 +385,86 @@ def random_frames(field: Field, n: int, *, false_positive_rate: float = 0.0,
                                     rng=rng, **options)
         if np.count_nonzero(~obs.truth.is_false) >= min_true:
             out.append(obs)
+    return out
+
+
+def frames_at_rates(field: Field, n: int, false_positive_rates, *, min_true: int = 3,
+                    max_draws: int = 100_000, rng=None,
+                    **options) -> list[list[Observations]]:
+    """``n`` random frames, each seen at every rate of ``false_positive_rates``.
+
+    The frames are those of :func:`random_frames` (uniform poses, kept when the
+    robot sees at least ``min_true`` real landmarks), but every frame is
+    simulated once per rate from one seed of its own, so the pose, the misses
+    and the noisy true detections are the same at every rate and only the
+    false detections differ. Comparing rates on these frames is a paired
+    comparison: a change in a share is the false detections', not the luck
+    of which poses each rate drew.
+
+    Parameters
+    ----------
+    field : Field
+    n : int
+        Frames wanted.
+    false_positive_rates : sequence of float in [0, 0.99]
+    min_true : int
+        Real detections a kept frame must have.
+    max_draws : int
+        Cap on the poses drawn.
+    rng : None, int or numpy.random.Generator
+    **options
+        Passed to :func:`simulate_observations` (``camera``, ``miss_rate``, ...).
+
+    Returns
+    -------
+    list of list of Observations
+        One list of ``n`` frames per rate, in the order of ``false_positive_rates``;
+        frame ``k`` has the same pose and true detections in every list (the same set: each
+        frame's detections are shuffled on their own).
+
+    Raises
+    ------
+    ValueError
+        ``max_draws`` poses gave fewer than ``n`` frames, or no rate was given.
+
+    Examples
+    --------
+    >>> from clap_unified.localization import load_field
+    >>> at0, at5 = frames_at_rates(load_field("adult"), 2, [0.0, 0.5], rng=0)
+    >>> [int(a.truth.is_false.sum()) == 0 for a in at0]
+    [True, True]
+    >>> def true_rows(o):
+    ...     return sorted(map(tuple, o.input.data[~o.truth.is_false].tolist()))
+    >>> [true_rows(a) == true_rows(b) for a, b in zip(at0, at5, strict=True)]
+    [True, True]
+    """
+    n = check_int(n, "n", minimum=0)
+    try:
+        given = np.asarray(false_positive_rates, dtype=float)
+    except (TypeError, ValueError):
+        given = None
+    if given is None or given.ndim != 1 or not given.size:
+        raise ValueError(f"false_positive_rates: expected a non-empty sequence of rates in "
+                         f"[0, 0.99], got {false_positive_rates!r}")
+    rates = [check_fraction(r, "false_positive_rates", high=0.99) for r in given]
+    rng = as_generator(rng)
+    half_x = field.dimensions["length"] / 2 - 0.5
+    half_y = field.dimensions["width"] / 2 - 0.5
+    out, draws = [[] for _ in rates], 0
+    while len(out[0]) < n:
+        if draws >= max_draws:
+            raise ValueError(f"max_draws: {max_draws} poses gave only {len(out[0])} frames "
+                             f"with {min_true} real detections; lower min_true")
+        draws += 1
+        pose = SE2.from_xytheta(rng.uniform(-half_x, half_x), rng.uniform(-half_y, half_y),
+                                rng.uniform(-np.pi, np.pi))
+        frame_seed = int(rng.integers(2**63))
+        # one seed per frame: simulate_observations draws the misses and the noise of the
+        # true detections before the false ones, so they are the same at every rate
+        frames = [simulate_observations(field, pose, false_positive_rate=r,
+                                        rng=np.random.default_rng(frame_seed), **options)
+                  for r in rates]
+        if np.count_nonzero(~frames[0].truth.is_false) >= min_true:
+            for target, obs in zip(out, frames, strict=True):
+                target.append(obs)
     return out

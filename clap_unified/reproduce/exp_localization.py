@@ -454,14 +454,17 @@ def _squeezed(field):
     return Field(field.name + "-squeezed", field.dimensions, field.types, pos)
 
 
-def _frames_2d(field, space, params, seed, rate, i, label):
-    from ..localization.observations import random_frames
+def _frames_2d(field, space, params, seed, rates, label):
+    """The sweep's frames with their candidates, rate by rate: the same poses and true
+    detections at every rate (one simulator seed per frame), only the false ones differ."""
+    from ..localization.observations import frames_at_rates
     from ..spaces import enumerate_hypotheses
 
-    frames = random_frames(field, params["frames"], false_positive_rate=rate,
-                           rng=np.random.default_rng([seed, 1, i]))
-    for k, obs in enumerate(progress(frames, label)):
-        yield k, obs, enumerate_hypotheses(space, obs.input.data)
+    per_rate = frames_at_rates(field, params["frames"], rates,
+                               rng=np.random.default_rng([seed, 1]))
+    for i, (rate, frames) in enumerate(zip(rates, per_rate, strict=True)):
+        for k, obs in enumerate(progress(frames, f"{label} {rate:.0%}")):
+            yield i, rate, k, obs, enumerate_hypotheses(space, obs.input.data)
 
 
 def _error_2d(r, truth):
@@ -479,31 +482,30 @@ def run_localization2d(params: dict, seed: int) -> dict:
     space = Landmark2DSpace(field)
     rows, sym_rows, var_rows = [], [], {k: [] for k in (*VARIANTS_2D, "control_budget")}
     var_sym = {k: [] for k in VARIANTS_2D}
-    for i, rate in enumerate(params["false_positive_rates"]):
-        for k, obs, hyps in _frames_2d(field, space, params, seed, rate, i,
-                                       f"localization2d {rate:.0%}"):
-            truth = obs.truth.pose
-            for method in METHODS_2D:
-                r = localize2d(obs.input.data, space=space, hypotheses=hyps, method=method)
-                e = _error_2d(r, truth)
-                rows.append({"false_positive_rate": rate, "frame": k, "method": method,
-                             "e_t_m": e[0], "e_r_deg": e[1]})
-                if method == "clap" and rate == 0.0:  # a failed frame counts as a miss
-                    sym_rows.append(_symmetry_row(r, truth))
-            for key, (_, options) in VARIANTS_2D.items():
-                r = localize2d(obs.input.data, space=space, hypotheses=hyps, **options)
-                e = _error_2d(r, truth)
-                var_rows[key].append({"false_positive_rate": rate, "frame": k, "method": "clap",
-                                      "e_t_m": e[0], "e_r_deg": e[1]})
-                if rate == 0.0:
-                    var_sym[key].append(_symmetry_row(r, truth))
-            r = localize2d(obs.input.data, space=space, method="ransac",
-                           n_hypotheses=CONTROL_BUDGET_2D,
-                           rng=np.random.default_rng([seed, 2, i, k]))
+    for i, rate, k, obs, hyps in _frames_2d(field, space, params, seed,
+                                            params["false_positive_rates"], "localization2d"):
+        truth = obs.truth.pose
+        for method in METHODS_2D:
+            r = localize2d(obs.input.data, space=space, hypotheses=hyps, method=method)
             e = _error_2d(r, truth)
-            var_rows["control_budget"].append({"false_positive_rate": rate, "frame": k,
-                                               "method": "clap", "e_t_m": e[0],
-                                               "e_r_deg": e[1]})
+            rows.append({"false_positive_rate": rate, "frame": k, "method": method,
+                         "e_t_m": e[0], "e_r_deg": e[1]})
+            if method == "clap" and rate == 0.0:  # a failed frame counts as a miss
+                sym_rows.append(_symmetry_row(r, truth))
+        for key, (_, options) in VARIANTS_2D.items():
+            r = localize2d(obs.input.data, space=space, hypotheses=hyps, **options)
+            e = _error_2d(r, truth)
+            var_rows[key].append({"false_positive_rate": rate, "frame": k, "method": "clap",
+                                  "e_t_m": e[0], "e_r_deg": e[1]})
+            if rate == 0.0:
+                var_sym[key].append(_symmetry_row(r, truth))
+        r = localize2d(obs.input.data, space=space, method="ransac",
+                       n_hypotheses=CONTROL_BUDGET_2D,
+                       rng=np.random.default_rng([seed, 2, i, k]))
+        e = _error_2d(r, truth)
+        var_rows["control_budget"].append({"false_positive_rate": rate, "frame": k,
+                                           "method": "clap", "e_t_m": e[0],
+                                           "e_r_deg": e[1]})
     numbers = _numbers_2d(rows, params, sym_rows)
     variants = {}
     for key, (label, _) in VARIANTS_2D.items():
@@ -519,8 +521,8 @@ def run_localization2d(params: dict, seed: int) -> dict:
     sq_space = Landmark2DSpace(squeezed)
     sq_rows = [_symmetry_row(localize2d(obs.input.data, space=sq_space, hypotheses=hyps),
                              obs.truth.pose)
-               for _, obs, hyps in _frames_2d(squeezed, sq_space, params, seed, 0.0, 0,
-                                              "localization2d squeezed field")]
+               for _, _, _, obs, hyps in _frames_2d(squeezed, sq_space, params, seed, [0.0],
+                                                    "localization2d squeezed field")]
     variants["control_asymmetric"] = {
         "label": f"a field without the 180 deg symmetry (y scaled by "
                  f"{SQUEEZE_2D:g} on one half)", "kind": "control", "claims": ["2d_symmetry"],
@@ -528,7 +530,8 @@ def run_localization2d(params: dict, seed: int) -> dict:
     return {"data": "simulated detections on the AdultSize field (substitute for the "
                     "predecessor's robot logs, which are not public): camera model, misses, "
                     "false detections; random poses, keeping frames with at least 3 true "
-                    "detections (scene selection by the simulator, not seen by the estimators)",
+                    "detections (scene selection by the simulator, not seen by the estimators); "
+                    "the same poses and true detections at every false-detection rate",
             "protocol": "global mode, every observation pair matched to every type-compatible "
                         "pair of map landmarks (all candidates enumerated, the same for CLAP, "
                         "RANSAC and the randomized Hough transform); CLAP bandwidth "
@@ -553,8 +556,24 @@ def _numbers_2d(rows, params, sym_rows) -> dict:
         for method in METHODS_2D:
             numbers[f"{method}@{rate:.2f}"] = _rates(
                 _errors(rows, false_positive_rate=rate, method=method), OK_2D, GROSS_2D)
+    numbers["ok_by_frame"] = _ok_by_frame(rows, params)
     numbers["symmetry"] = _symmetry_numbers(sym_rows)
     return numbers
+
+
+def _ok_by_frame(rows, params) -> dict:
+    """Per ``method@rate``, a string with one character per frame in frame order: ``1`` when
+    the pose is within :data:`OK_2D`, else ``0``. The frames are the same at every rate, so
+    two rates (or two methods) are compared frame by frame (a paired test)."""
+    out = {}
+    for rate in params["false_positive_rates"]:
+        for method in METHODS_2D:
+            picked = sorted((r for r in rows if r["false_positive_rate"] == rate
+                             and r["method"] == method), key=lambda r: r["frame"])
+            out[f"{method}@{rate:.2f}"] = "".join(
+                "1" if r["e_t_m"] is not None and r["e_t_m"] < OK_2D[0]
+                and r["e_r_deg"] < OK_2D[1] else "0" for r in picked)
+    return out
 
 
 def _symmetry_numbers(sym_rows) -> dict:
