@@ -207,3 +207,128 @@ def test_the_glossary_defines_the_terms_a_newcomer_met_undefined():
     ch4, ch7 = _prose("04_localization_3d.ipynb"), _prose("05c_many_answers.ipynb")
     assert "{term}`ICP`" in ch4 and "{term}`MoCap`" in ch4
     assert "{term}`spatial coherence`" in ch7
+
+
+def _guide_row(guide: str, starts: str) -> list[str]:
+    """The cells of the short answer's row that starts with ``starts``."""
+    line = next(x for x in guide.splitlines() if x.startswith("| " + starts))
+    return [c.strip() for c in line.strip()[1:-1].split(" | ")]
+
+
+def _claims_section(guide: str) -> str:
+    return " ".join(guide.split("## What the paper's claims came to")[1].split("\n## ")[0]
+                    .split())
+
+
+def unsaid_claims(section: str, titles: list[str]) -> list[str]:
+    """The claims the guide's section on the paper's claims does not name: a title is quoted
+    whole, or, where its words hold a number (which the guide may not type), its prefix ("3D")
+    is quoted."""
+    unsaid = []
+    for title in titles:
+        prefix, words = title.split(": ", 1)
+        named = f'"{prefix}"' in section if re.search(r"\d", words) else f'"{title}"' in section
+        if not named:
+            unsaid.append(title)
+    return unsaid
+
+
+def test_the_guide_names_every_claim_and_its_table_of_verdicts():
+    """The section covered only 2D, 3D and homographies, and pointed to "the table above",
+    where the only table a reader could take for it was the short answer."""
+    from clap_unified.reproduce.claims import CLAIM_TITLES
+
+    section = _claims_section((BOOK / "choosing.md").read_text(encoding="utf-8"))
+    assert unsaid_claims(section, list(CLAIM_TITLES.values())) == []
+    assert "verdicts_markdown(run.claims)" in section  # the verdicts, computed
+    assert "every claim of the paper its verdict in one place" in section
+    assert "in the table above" not in section  # the table is named: "table of verdicts"
+    assert "table of verdicts" in section
+
+
+def test_the_unsaid_claims_check_catches_the_old_section():
+    old = ('* **2D localization**: level (the claim\'s own experiment, whose verdict is in the '
+           'table above). * **Homographies**: fails more often.')
+    titles = ["3D: CLAP beats RANSAC above 50 % outliers", "Real panoramas: similar accuracy",
+              "2D: robust against outliers"]
+    assert unsaid_claims(old, titles) == titles
+    assert unsaid_claims('the two rows that start with "3D"; the row "2D: robust against '
+                         'outliers"', titles) == ["Real panoramas: similar accuracy"]
+
+
+def test_the_guide_s_homography_choice_follows_chapter_8_s_numbers():
+    """The row chose "OpenCV MAGSAC++ or PoseLib" beside numbers that put MAGSAC++ below the
+    library's CLAP and OpenCV RANSAC on the hard synthetic pairs: the choice is now the best
+    peer chapter 8 computes, and the evidence names the peers the library's CLAP is ahead of."""
+    _, choose, evidence = _guide_row((BOOK / "choosing.md").read_text(encoding="utf-8"),
+                                     "one {term}`homography`")
+    assert "c6_synthetic_best_name" in choose and "MAGSAC" not in choose
+    assert "c6_below_words" in evidence
+
+
+def test_the_guide_s_3d_rows_say_which_experiment_each_number_is_from():
+    """53 and 39 of 60 (tracking, each method gated around its own previous estimate) and
+    0.89 and 0.76 (a front end's guess) read as one comparison; CLAP (paper)'s misses were
+    said to be frames without a pose while 2 of 21 were coarse poses."""
+    guide = (BOOK / "choosing.md").read_text(encoding="utf-8")
+    _, _, track = _guide_row(guide, "a prior: tracking")
+    assert "own previous estimate" in track
+    for name in ("c4_track_clap_local_none", "c4_track_clap_local_coarse",
+                 "c4_track_clap_local_wrong"):
+        assert f"::{name}:" in track, name
+    assert "never a wrong one" not in track
+    _, _, few = _guide_row(guide, "few correct candidates")
+    assert "front end's guess" in few and "::c4_guess_m:" in few and "::c4_n_frames:" in few
+
+
+def test_the_guide_s_choice_for_several_structures_is_computed():
+    """The row chose "CLAP through segment" beside evidence that its lead over T-Linkage and
+    sequential RANSAC is within the spread over seeds."""
+    _, choose, _ = _guide_row((BOOK / "choosing.md").read_text(encoding="utf-8"),
+                              "several structures")
+    assert choose == "{glue:text}`chapters/05c_many_answers.ipynb::mm_guide_choose:s`"
+
+
+def test_the_guide_s_design_row_has_a_measurement():
+    """The row "cheap to compare but expensive to score" had only a description under "what
+    the measurements say"."""
+    _, _, evidence = _guide_row((BOOK / "choosing.md").read_text(encoding="utf-8"),
+                                "candidates that are cheap to compare")
+    assert CROSS.search(evidence), evidence
+
+
+def landmark_clap_defects(intro: str) -> list[str]:
+    """The front page's sentence on which CLAP the landmark chapters run: chapters 3 and 4 run
+    one configuration (the library's localization defaults are the paper's settings), named
+    CLAP (paper), so the page may not promise a comparison of the two."""
+    text = " ".join(intro.split())
+    sentence = next((s for s in re.split(r"(?<=\.) ", text) if s.startswith("For landmarks")),
+                    "")
+    if not sentence:
+        return ["no sentence on the landmark chapters' CLAP"]
+    defects = []
+    if re.search(r"\bcompare", sentence):
+        defects.append("promises a comparison of the paper's settings with the defaults")
+    if "CLAP (paper)" not in sentence:
+        defects.append("does not name the CLAP they run")
+    return defects
+
+
+def test_the_front_page_says_the_landmark_chapters_run_one_clap():
+    assert landmark_clap_defects((BOOK / "intro.md").read_text(encoding="utf-8")) == []
+    old = ("on your own data. For landmarks, chapters 3 and 4 compare the paper's settings with "
+           "the library's localization defaults and say which CLAP they run. The chapters")
+    assert landmark_clap_defects(old) == [
+        "promises a comparison of the paper's settings with the defaults",
+        "does not name the CLAP they run"]
+
+
+def test_the_glossary_defines_the_terms_its_entries_and_chapter_5_use():
+    """"first-order distance" (in the entry CLAP (densest-cluster reading)) and "SL(3)"
+    (chapter 5's "In the library" box) had no entry."""
+    from test_chapter_pages import _glossary_terms
+
+    terms = _glossary_terms()
+    assert "first-order distance" in terms and "SL(3)" in terms
+    glossary = (BOOK / "glossary.md").read_text(encoding="utf-8")
+    assert "{term}`first-order distance`" in glossary
