@@ -762,3 +762,67 @@ def test_chapter9_exercise3_leaves_nothing_out_that_it_calls_inherited():
            "arguments) and every member it inherits unchanged (capabilities, declared, "
            "default_cell_size, default_threshold, hough_grid, model_to_dict, refine).")
     assert left_out_and_inherited(old) == {"model_to_dict", "default_threshold"}
+
+
+# --- the tenth read: chapter 9's words, a literal and a printed source ------------------
+
+def comment_lines_in_brackets(source: str) -> list[str]:
+    """Comment lines of ``source`` that stand inside an open bracket (between two entries of
+    a literal or two arguments of a call), where a reader takes them for one entry's note."""
+    import io
+    import tokenize
+
+    depth, found = 0, []
+    for tok in tokenize.generate_tokens(io.StringIO(source).readline):
+        if tok.type == tokenize.OP and tok.string in "([{":
+            depth += 1
+        elif tok.type == tokenize.OP and tok.string in ")]}":
+            depth -= 1
+        elif tok.type == tokenize.COMMENT and depth and not tok.line[:tok.start[1]].strip():
+            found.append(tok.string)
+    return found
+
+
+def your_data_defects(nb: dict) -> list[str]:
+    """Chapter 9 as the tenth reader found it: the default threshold named two ways; the
+    synthetic pairs' score points called "validation points" (chapter 8: "noise-free points
+    of the true plane"); a count of 0 clusters for estimators that report none; a comment
+    line inside a dict literal; the CircleSpace source printed wider than the page."""
+    prose = _prose(nb)
+    defects = []
+    if "2 % of the data's spread" in prose:
+        defects.append("the default threshold: 'spread' here, 'root-mean-square radius' there")
+    if prose.count("2 % of the data's root-mean-square radius") < 2:
+        defects.append("the default threshold is not named alike in the text and the hint")
+    if "validation points" in prose:
+        defects.append("the synthetic pairs' points called 'validation points'")
+    code = [_text(c["source"]) for c in nb["cells"] if c["cell_type"] == "code"]
+    table = next(s for s in code if "estimate_homography(matches, method" in s)
+    if "len(r.clusters)]" in table:
+        defects.append("the peers' clusters printed as 0")
+    defects += [f"a comment inside brackets: {c}" for s in code
+                for c in comment_lines_in_brackets(s)]
+    if any("print(inspect.getsource(CircleSpace))" in s for s in code):
+        defects.append("the CircleSpace source printed with lines wider than 88 characters")
+    return defects
+
+
+def test_chapter9_names_its_threshold_points_and_clusters_as_the_book_does():
+    assert your_data_defects(_load("07_your_data")) == []
+
+
+def test_the_chapter9_tenth_read_checks_catch_the_old_text():
+    old = {"cells": [
+        {"cell_type": "markdown", "metadata": {},
+         "source": "without one, `fit_line` takes 2 % of the data's spread. The error sends "
+                   "the validation points. Hint: 2 % of the data's root-mean-square radius"},
+        {"cell_type": "code", "metadata": {},
+         "source": 'WORDS = {"a": "A",\n         # the names\n         "b": "B"}\n'},
+        {"cell_type": "code", "metadata": {},
+         "source": "for m in M:\n    r = estimate_homography(matches, method, rng=0)\n"
+                   "    rows.append([name, len(r.clusters)])\n"},
+        {"cell_type": "code", "metadata": {},
+         "source": "print(inspect.getsource(CircleSpace))"}]}
+    assert len(your_data_defects(old)) == 6
+    assert comment_lines_in_brackets("# above\nx = {1: 2,  # a note on the entry\n     3: 4}\n") \
+        == []
