@@ -411,3 +411,38 @@ def test_localization_3d_tracking_counts_candidates_near_the_true_pose_too():
     assert "space.near_prior(det.truth.pose, h.models, GATE)" in code
     assert "at_truth" in next(_text(c["source"]) for c in nb["cells"]
                               if "# Exercise 2" in _text(c["source"]))
+
+
+#: A table column or a print of chapter 1 that gives rho with no origin: the figures draw it
+#: from the centroid, the library stores it from (0, 0), and a reader compares the two.
+BARE_RHO = re.compile(r"\(\"rho\", \"|rho = \{[^}]*\}\"\)|f\"rho \{c0\[1\]:\.4f\}; same line")
+
+
+def one_abstraction_figure_defects(notebook: dict) -> list[str]:
+    """Chapter 1's figures as the reader checks them against the text: the tables say from
+    where rho is measured; a peak at theta near 0 is drawn inside the Hough panel (its
+    accumulator repeats its last degrees left of 0); the insets' window, which the caption
+    names, is drawn over the large star that used to hide it."""
+    code = "\n".join(_text(c["source"]) for c in notebook["cells"]
+                     if c["cell_type"] == "code")
+    defects = [f"rho without its origin: {m.group(0)!r}" for m in BARE_RHO.finditer(code)]
+    if "wrapped_accumulator(ax[1, 0], acc)" not in code:
+        defects.append("the Hough panel starts at theta = 0: a peak there is cut in half")
+    if "window=zoom" not in code:
+        defects.append("the insets' window is drawn beneath the star only")
+    caption = _figure_meta(notebook, "fig-one-views")["figure"]["caption"]
+    if "rectangle" in caption and "over the star" not in caption:
+        defects.append("the caption names a rectangle the star hides")
+    return defects
+
+
+def test_one_abstraction_figures_and_tables_agree_on_what_they_draw():
+    defects = one_abstraction_figure_defects(_notebook("01_one_abstraction"))
+    assert not defects, defects
+    old = {"cells": [
+        {"cell_type": "code", "metadata": {"mystnb": {"figure": {
+            "name": "fig-one-views", "caption": "each inset zooms on the grey rectangle"}}},
+         "source": 'plot_accumulator(ax[1, 0], acc)\nmark(a_, acc.origin, truth.line)\n'
+                   'markdown_table(rows, [("rho", "7.4f")])\n'
+                   'print(f"medoid: rho = {my_medoid[1]:.4f}")'}]}
+    assert len(one_abstraction_figure_defects(old)) == 5

@@ -526,3 +526,30 @@ def test_chapter6_mosaics_say_what_they_show_for_the_failed_pairs():
     caption = next(c["metadata"]["mystnb"]["figure"]["caption"] for c in nb["cells"]
                    if "tiles" in _text(c["source"]) and "imshow" in _text(c["source"]))
     assert "red frame" in caption
+
+
+#: The smallest title font of chapter 6's mosaic grid, in points: the grid is drawn at 70 dpi
+#: and shown about 700 px wide, so a point is about a pixel; the default 10 pt read as 7 px.
+MIN_TILE_FONT = 13
+
+
+def mosaic_title_defects(notebook: dict) -> list[str]:
+    """The real-panorama mosaic grid's tile titles: set at MIN_TILE_FONT pt or more."""
+    cell = next(_text(c["source"]) for c in notebook["cells"] if c["cell_type"] == "code"
+                and 'mosaics, feathered: {source}' in _text(c["source"]))
+    size = re.search(r"^TILE_FONT = (\d+)", cell, flags=re.MULTILINE)
+    defects = []
+    if not size or int(size.group(1)) < MIN_TILE_FONT:
+        defects.append(f"tile titles under {MIN_TILE_FONT} pt")
+    titles = re.findall(r"ax\.set_title\([^\n]*\)", cell)
+    if not titles or any("fontsize=TILE_FONT" not in t for t in titles):
+        defects.append("a tile title at the default font size")
+    return defects
+
+
+def test_chapter6_mosaic_titles_are_legible_at_page_width():
+    assert mosaic_title_defects(_load(CH6)) == []
+    old = {"cells": [{"cell_type": "code", "source":
+                      "fig.suptitle(f\"CLAP (paper) mosaics, feathered: {source}\")\n"
+                      "    ax.set_title(title, color=\"tab:red\" if framed else \"black\")\n"}]}
+    assert len(mosaic_title_defects(old)) == 2

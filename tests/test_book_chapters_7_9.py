@@ -831,3 +831,117 @@ def test_chapter9_exercise3_leaves_nothing_out_that_it_calls_inherited():
            "arguments) and every member it inherits unchanged (capabilities, declared, "
            "default_cell_size, default_threshold, hough_grid, model_to_dict, refine).")
     assert left_out_and_inherited(old) == {"model_to_dict", "default_threshold"}
+
+
+# --- the tenth read: chapter 9's words, a literal and a printed source ------------------
+
+def comment_lines_in_brackets(source: str) -> list[str]:
+    """Comment lines of ``source`` that stand inside an open bracket (between two entries of
+    a literal or two arguments of a call), where a reader takes them for one entry's note."""
+    import io
+    import tokenize
+
+    depth, found = 0, []
+    for tok in tokenize.generate_tokens(io.StringIO(source).readline):
+        if tok.type == tokenize.OP and tok.string in "([{":
+            depth += 1
+        elif tok.type == tokenize.OP and tok.string in ")]}":
+            depth -= 1
+        elif tok.type == tokenize.COMMENT and depth and not tok.line[:tok.start[1]].strip():
+            found.append(tok.string)
+    return found
+
+
+def your_data_defects(nb: dict) -> list[str]:
+    """Chapter 9 as the tenth reader found it: the default threshold named two ways; the
+    synthetic pairs' score points called "validation points" (chapter 8: "noise-free points
+    of the true plane"); a count of 0 clusters for estimators that report none; a comment
+    line inside a dict literal; the CircleSpace source printed wider than the page."""
+    prose = _prose(nb)
+    defects = []
+    if "2 % of the data's spread" in prose:
+        defects.append("the default threshold: 'spread' here, 'root-mean-square radius' there")
+    if prose.count("2 % of the data's root-mean-square radius") < 2:
+        defects.append("the default threshold is not named alike in the text and the hint")
+    if "validation points" in prose:
+        defects.append("the synthetic pairs' points called 'validation points'")
+    code = [_text(c["source"]) for c in nb["cells"] if c["cell_type"] == "code"]
+    table = next(s for s in code if "estimate_homography(matches, method" in s)
+    if "len(r.clusters)]" in table:
+        defects.append("the peers' clusters printed as 0")
+    defects += [f"a comment inside brackets: {c}" for s in code
+                for c in comment_lines_in_brackets(s)]
+    if any("print(inspect.getsource(CircleSpace))" in s for s in code):
+        defects.append("the CircleSpace source printed with lines wider than 88 characters")
+    return defects
+
+
+def test_chapter9_names_its_threshold_points_and_clusters_as_the_book_does():
+    assert your_data_defects(_load("07_your_data")) == []
+
+
+def test_the_chapter9_tenth_read_checks_catch_the_old_text():
+    old = {"cells": [
+        {"cell_type": "markdown", "metadata": {},
+         "source": "without one, `fit_line` takes 2 % of the data's spread. The error sends "
+                   "the validation points. Hint: 2 % of the data's root-mean-square radius"},
+        {"cell_type": "code", "metadata": {},
+         "source": 'WORDS = {"a": "A",\n         # the names\n         "b": "B"}\n'},
+        {"cell_type": "code", "metadata": {},
+         "source": "for m in M:\n    r = estimate_homography(matches, method, rng=0)\n"
+                   "    rows.append([name, len(r.clusters)])\n"},
+        {"cell_type": "code", "metadata": {},
+         "source": "print(inspect.getsource(CircleSpace))"}]}
+    assert len(your_data_defects(old)) == 6
+    assert comment_lines_in_brackets("# above\nx = {1: 2,  # a note on the entry\n     3: 4}\n") \
+        == []
+
+
+# --- the tenth read: chapter 8's bars, chapter 2's ratio, exercise 3's radii -------------
+
+def performance_tenth_defects(ch8: dict, ch5: dict, ch2: dict) -> list[str]:
+    """Chapter 8 as the tenth reader found it: its 5 px bar beside chapter 5's 10 px rule,
+    unsaid; chapter 2's CLAP / scikit-image ratio invited beside its own, unexplained;
+    exercise 3 claiming radii it did not try ("30 px or more") and printing "only 0
+    hypotheses"; the table's bar typed in peer_table's default rather than WITHIN."""
+    prose = _prose(ch8)
+    code = "\n".join(_text(c["source"]) for c in ch8["cells"] if c["cell_type"] == "code")
+    defects = []
+    if "{glue:text}`05_homographies.ipynb::val_fail:" not in prose:
+        defects.append("chapter 5's failure bar is not set beside this chapter's")
+    if "val_fail" not in glued_values(ch5):
+        defects.append("chapter 5 glues no val_fail for chapter 8 to cite")
+    if "within=WITHIN" not in code:
+        defects.append("the tables count 'right' at peer_table's default, not WITHIN")
+    if "belongs beside the second row here, not the first." in prose:
+        defects.append("chapter 2's ratio invited beside this one without a word")
+    if not (_cites(prose.replace(":.0f`", "`"), "02_line_fitting.ipynb::big_sk_trials")
+            and _cites(prose, "c6_sk_trials")):
+        defects.append("scikit-image's trial counts of the two scenes are not set side by side")
+    if "big_sk_trials" not in glued_values(ch2):
+        defects.append("chapter 2 glues no big_sk_trials for chapter 8 to cite")
+    solution = next(_text(c["source"]) for c in ch8["cells"] if c["cell_type"] == "code"
+                    and _text(c["source"]).startswith("# 3. local mode"))
+    if "px or more" in solution or "result's reason:" in solution:
+        defects.append("exercise 3 claims radii it did not try or prints 'only 0 hypotheses'")
+    return defects
+
+
+def test_chapter8_sets_its_bar_and_ratios_beside_the_other_chapters():
+    defects = performance_tenth_defects(_load("06_performance"), _load("05_homographies"),
+                                        _load("02_line_fitting"))
+    assert defects == []
+
+
+def test_the_chapter8_tenth_read_checks_catch_the_old_text():
+    old = {"cells": [
+        {"cell_type": "markdown", "metadata": {},
+         "source": "An estimate counts as right when its error is below {glue:text}`c6_within`"
+                   " px. Chapter 2 ... so its ratio to scikit-image belongs beside the second "
+                   "row here, not the first."},
+        {"cell_type": "code", "metadata": {}, "outputs": [],
+         "source": "peer_table(rows, reference=OPENCV)"},
+        {"cell_type": "code", "metadata": {}, "outputs": [],
+         "source": "# 3. local mode at the decoy\nlines.append(f\"radius {r} px: no estimate; "
+                   "the result's reason:\")\nf\"With a radius of {ok[0]:.0f} px or more\""}]}
+    assert len(performance_tenth_defects(old, {"cells": []}, {"cells": []})) == 7
