@@ -262,7 +262,7 @@ def test_the_guide_s_homography_choice_follows_chapter_8_s_numbers():
     peer chapter 8 computes, and the evidence names the peers the library's CLAP is ahead of."""
     _, choose, evidence = _guide_row((BOOK / "choosing.md").read_text(encoding="utf-8"),
                                      "one {term}`homography`")
-    assert "c6_synthetic_best_name" in choose and "MAGSAC" not in choose
+    assert "c6_guide_choose" in choose and "MAGSAC" not in choose
     assert "c6_below_words" in evidence
 
 
