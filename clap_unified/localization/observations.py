@@ -331,6 +331,20 @@ def _false(name, m, field, pose, camera, type_id, rng):
             np.full((m, 2), np.nan))
 
 
+def _carpet_poses(field: Field, rng, max_draws: int, min_true: int, kept):
+    """Uniform poses over the field of play, 0.5 m inside its lines (x, then y, then any
+    heading; one draw each), at most ``max_draws`` of them; then a ValueError saying how many
+    frames were kept (``kept()``): the pose source of :func:`random_frames` and
+    :func:`frames_at_rates`."""
+    half_x = field.dimensions["length"] / 2 - 0.5
+    half_y = field.dimensions["width"] / 2 - 0.5
+    for _ in range(max_draws):
+        yield SE2.from_xytheta(rng.uniform(-half_x, half_x), rng.uniform(-half_y, half_y),
+                               rng.uniform(-np.pi, np.pi))
+    raise ValueError(f"max_draws: {max_draws} poses gave only {kept()} frames with "
+                     f"{min_true} real detections; lower min_true")
+
+
 def random_frames(field: Field, n: int, *, false_positive_rate: float = 0.0,
                   min_true: int = 3, max_draws: int = 100_000, rng=None,
                   **options) -> list[Observations]:
@@ -371,16 +385,10 @@ def random_frames(field: Field, n: int, *, false_positive_rate: float = 0.0,
     """
     n = check_int(n, "n", minimum=0)
     rng = as_generator(rng)
-    half_x = field.dimensions["length"] / 2 - 0.5
-    half_y = field.dimensions["width"] / 2 - 0.5
-    out, draws = [], 0
+    out = []
+    poses = _carpet_poses(field, rng, max_draws, min_true, lambda: len(out))
     while len(out) < n:
-        if draws >= max_draws:
-            raise ValueError(f"max_draws: {max_draws} poses gave only {len(out)} frames with "
-                             f"{min_true} real detections; lower min_true")
-        draws += 1
-        pose = SE2.from_xytheta(rng.uniform(-half_x, half_x), rng.uniform(-half_y, half_y),
-                                rng.uniform(-np.pi, np.pi))
+        pose = next(poses)
         obs = simulate_observations(field, pose, false_positive_rate=false_positive_rate,
                                     rng=rng, **options)
         if np.count_nonzero(~obs.truth.is_false) >= min_true:
@@ -403,17 +411,9 @@ def frames_at_rates(field: Field, n: int, false_positive_rates, *, min_true: int
 
     Parameters
     ----------
-    field : Field
-    n : int
-        Frames wanted.
+    field, n, min_true, max_draws, rng, **options
+        As in :func:`random_frames`.
     false_positive_rates : sequence of float in [0, 0.99]
-    min_true : int
-        Real detections a kept frame must have.
-    max_draws : int
-        Cap on the poses drawn.
-    rng : None, int or numpy.random.Generator
-    **options
-        Passed to :func:`simulate_observations` (``camera``, ``miss_rate``, ...).
 
     Returns
     -------
@@ -448,16 +448,10 @@ def frames_at_rates(field: Field, n: int, false_positive_rates, *, min_true: int
                          f"[0, 0.99], got {false_positive_rates!r}")
     rates = [check_fraction(r, "false_positive_rates", high=0.99) for r in given]
     rng = as_generator(rng)
-    half_x = field.dimensions["length"] / 2 - 0.5
-    half_y = field.dimensions["width"] / 2 - 0.5
-    out, draws = [[] for _ in rates], 0
+    out = [[] for _ in rates]
+    poses = _carpet_poses(field, rng, max_draws, min_true, lambda: len(out[0]))
     while len(out[0]) < n:
-        if draws >= max_draws:
-            raise ValueError(f"max_draws: {max_draws} poses gave only {len(out[0])} frames "
-                             f"with {min_true} real detections; lower min_true")
-        draws += 1
-        pose = SE2.from_xytheta(rng.uniform(-half_x, half_x), rng.uniform(-half_y, half_y),
-                                rng.uniform(-np.pi, np.pi))
+        pose = next(poses)
         frame_seed = int(rng.integers(2**63))
         # one seed per frame: simulate_observations draws the misses and the noise of the
         # true detections before the false ones, so they are the same at every rate
