@@ -331,6 +331,30 @@ def test_evd_rule_counts_pairs():
     assert _judge_evd({"homography_evd": {"tables": {"lie": rows}}})[0] == "not reproduced"
 
 
+def test_a_control_that_flips_the_evd_rule_on_failures_says_so():
+    """Claim 6's control (RANSAC with 10 iterations) reached "reproduced" with 8 of CLAP's 10
+    wins on pairs where both fail: the block said nothing, as if the rule had seen a CLAP that
+    succeeds more often."""
+    from clap_unified.reproduce.claims import claim_block
+    from clap_unified.reproduce.runner import verdicts_markdown
+
+    both_lost = {"CLAP": (300.0, 0.05), "RANSAC": (900.0, 0.0)}   # CLAP closer, both fail
+    clap_right = {"CLAP": (2.0, 0.9), "RANSAC": (900.0, 0.0)}
+    protocol = {"CLAP": (900.0, 0.0), "RANSAC": (2.0, 0.8)}
+    out = {"homography_evd": {
+        "data": "EVD: toy", "protocol": "p", "tables": {"lie": _lie_rows([protocol] * 3)},
+        "numbers": {}, "variants": {"control_weak": {
+            "label": "RANSAC with 10 iterations", "kind": "control",
+            "claims": ["stitching_outliers"],
+            "tables": {"lie": _lie_rows([both_lost, both_lost, clap_right])}}}}}
+    c = next(x for x in evaluate_claims(out) if x["key"] == "stitching_outliers")
+    (control,) = c["controls"]
+    assert control["verdict"] == "reproduced" and control["reaches"] == "yes"
+    assert "mostly on pairs where both methods fail (2 of the 3 pairs" in control["note"]
+    assert "*A control that decided on failures:*" in claim_block(c)
+    assert "(decided mostly on pairs where both methods fail)" in verdicts_markdown([c])
+
+
 def test_evd_counts_the_pairs_won_where_both_fail():
     """Claim 6: a pair RANSAC is "closer" on while both keep almost none of the labelled
     inliers is not a win that shows robustness; the count says how many such pairs it holds."""

@@ -1193,6 +1193,9 @@ def _control_reach(key: str, verdict: str, row: dict, numbers: dict | None = Non
     >>> print(_control_reach("3d_outliers", "not reproduced", {"verdict": "not reproduced",
     ...       "key": "control_silent"})[1][:60])
     it weakens CLAP, not the baseline, so under a claim that is
+    >>> print(_control_reach("stitching_outliers", "not reproduced",
+    ...       {"verdict": "reproduced", "wins": [10, 8]})[1][:69])
+    it reached "reproduced" mostly on pairs where both methods fail (8 of
     """
     got = row["verdict"]
     target = {"reproduced": "not reproduced", "not reproduced": "reproduced"}.get(verdict)
@@ -1203,6 +1206,12 @@ def _control_reach(key: str, verdict: str, row: dict, numbers: dict | None = Non
         reach = ("yes" if got == target else
                  "partly" if _differs(row, verdict) else "no")
     if reach == "yes":
+        wins = row.get("wins")
+        if wins and wins[0] and 2 * wins[1] > wins[0]:
+            return reach, (f"it reached \"{got}\" mostly on pairs where both methods fail "
+                           f"({wins[1]} of the {wins[0]} pairs on which CLAP (this row) is "
+                           f"closer): it shows that the rule can flip, not that it would "
+                           f"recognise a CLAP that succeeds more often")
         return reach, ""
     towards, away = NEEDED.get(key, ("the rule's other verdict", "the rule's other verdict"))
     needed = towards if target in ("reproduced", "another verdict") else away
@@ -1494,6 +1503,9 @@ def judge_variants(claim: Claim, outputs: dict) -> list[dict]:
         rows.append({"key": key, "name": name, "change": _SEEDS_NOTE.sub("", first["label"]),
                      "kind": kind, "verdict": verdict, "seeds": _seeds(numbers),
                      "edge": numbers.get("edge") or "",
+                     # the pairs CLAP wins and, of them, those where both methods fail
+                     "wins": ([numbers["closer"], numbers["closer_both_failed"]]
+                              if "closer_both_failed" in numbers else None),
                      "measured": _qualify(measured, ROW_CLAP),
                      "headline": _qualify(line, ROW_CLAP)})
     return rows
@@ -1810,9 +1822,11 @@ def claim_block(entry: dict, shown: dict | None = None, ref: str = "") -> str:
     notes = {}
     for r in entry.get("controls", []):
         if r.get("note"):
-            notes.setdefault(r["note"], []).append(r["change"])
-    for note, changes in notes.items():
-        label = ("*A control that did not decide:*" if len(changes) == 1
+            notes.setdefault((r["note"], r.get("reaches") == "yes"), []).append(r["change"])
+    for (note, reached), changes in notes.items():
+        label = (("*A control that decided on failures:*" if len(changes) == 1
+                  else "*Controls that decided on failures:*") if reached else
+                 "*A control that did not decide:*" if len(changes) == 1
                  else "*Controls that did not decide:*")
         lines += ["", f"{label} {'; '.join(changes)}: {_each(note, len(changes))}."]
     if not entry.get("controls") and entry.get("sensitivity") is not None:

@@ -442,13 +442,16 @@ def claims_markdown(claims, details: bool = True) -> str:
 
 
 def _controls_cell(controls) -> str:
-    """The controls' verdicts, each marked when it did not reach the other verdict."""
+    """The controls' verdicts, each marked when it did not reach the other verdict (or reached
+    it mostly on pairs where both methods fail)."""
     marks = {"partly": " (did not decide: moved part of the way)", "no": " (did not decide)"}
 
     def mark(r):
         m = marks.get(r.get("reaches"), "")
         if m and r.get("weakens") == "CLAP" and r["verdict"] == "not reproduced":
             m = " (did not decide: it weakens CLAP, so it could only confirm the verdict)"
+        if r.get("reaches") == "yes" and r.get("note"):  # decided, on pairs where both fail
+            m = " (decided mostly on pairs where both methods fail)"
         return m
 
     return "; ".join(r["verdict"] + mark(r) for r in controls) or "-"
