@@ -425,6 +425,16 @@ def test_paired_differ_counts_only_the_frames_where_the_two_differ():
     assert paired_differ("11", "00") == 0  # two trials are not evidence
 
 
+def test_paired_on_edge_tries_one_trial_the_other_way_on_either_side():
+    from clap_unified.reproduce.claims import paired_differ, paired_on_edge
+
+    ahead, behind = "1" * 8 + "0" * 142, "0" * 150          # 8 of 150: just past the margin
+    assert paired_differ(ahead, behind) == 1 and paired_on_edge(ahead, behind)
+    assert paired_differ(behind, ahead) == -1 and paired_on_edge(behind, ahead)
+    assert not paired_on_edge("1" * 20 + "0" * 130, "0" * 150)   # 20 of 150: not on the edge
+    assert not paired_on_edge(ahead, ahead)                        # level: nothing to undo
+
+
 def test_2d_rules():
     def numbers(clap_ok, ransac_ok):
         n = {}

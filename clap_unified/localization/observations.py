@@ -455,10 +455,13 @@ def frames_at_rates(field: Field, n: int, false_positive_rates, *, min_true: int
         frame_seed = int(rng.integers(2**63))
         # one seed per frame: simulate_observations draws the misses and the noise of the
         # true detections before the false ones, so they are the same at every rate
-        frames = [simulate_observations(field, pose, false_positive_rate=r,
-                                        rng=np.random.default_rng(frame_seed), **options)
-                  for r in rates]
-        if np.count_nonzero(~frames[0].truth.is_false) >= min_true:
-            for target, obs in zip(out, frames, strict=True):
-                target.append(obs)
+        def seen_at(rate, pose=pose, frame_seed=frame_seed):
+            return simulate_observations(field, pose, false_positive_rate=rate,
+                                         rng=np.random.default_rng(frame_seed), **options)
+
+        first = seen_at(rates[0])
+        if np.count_nonzero(~first.truth.is_false) < min_true:
+            continue  # a rejected pose is not simulated at the other rates
+        for target, obs in zip(out, [first, *map(seen_at, rates[1:])], strict=True):
+            target.append(obs)
     return out

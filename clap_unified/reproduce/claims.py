@@ -19,7 +19,7 @@ from dataclasses import dataclass
 __all__ = ["CLAIMS", "CLAIM_TITLES", "MARGIN", "VARIANT_KINDS", "VARIANT_NAMES", "VERDICTS", "WHY",
            "Claim", "alternatives_count", "alternatives_text", "chapter_claims", "claim_block",
            "claim_title", "describe_variant", "deviation", "evaluate_claims", "judge_variants",
-           "paired_differ", "rates_differ", "verdict_lines", "wilson_lower"]
+           "paired_differ", "paired_on_edge", "rates_differ", "verdict_lines", "wilson_lower"]
 
 #: The four verdicts a claim can get, from best to no data.
 VERDICTS = ("reproduced", "partly reproduced", "not reproduced", "data unavailable")
@@ -171,6 +171,35 @@ def paired_differ(a, b) -> int:
     # 0, and two trials of two would otherwise count as a difference
     se = max(math.sqrt(max(won_a + won_b - (won_a - won_b) ** 2 / n, 0.0)), 1.0) / n
     return 0 if abs(d) <= max(MARGIN, 2 * se) else (1 if d > 0 else -1)
+
+
+def paired_on_edge(a, b) -> bool:
+    """Whether one trial of ``a`` going the other way would undo :func:`paired_differ`'s
+    verdict on ``a`` against ``b`` (a difference on the edge of the rule).
+
+    The trial changed is one on which ``a`` has the outcome that makes its lead (a success
+    when ``a`` is ahead, a failure when behind), either one where ``b`` differs (fewer
+    trials then differ) or one where ``b`` agrees (more then differ, a wider error); the
+    difference is on the edge when either change makes it level.
+
+    Examples
+    --------
+    >>> paired_on_edge("1" * 8 + "0" * 142, "0" * 150)  # 8 of 150 trials, margin 0.05
+    True
+    >>> paired_on_edge("1" * 20 + "0" * 130, "0" * 150), paired_on_edge("10", "10")
+    (False, False)
+    """
+    d = paired_differ(a, b)
+    if d == 0:
+        return False
+    x, y = [str(int(c in (True, 1, "1"))) for c in a], [str(int(c in (True, 1, "1"))) for c in b]
+    lead = "1" if d > 0 else "0"  # a's outcome on the trials that make its lead (or gap)
+    for other in ("0", "1") if d > 0 else ("1", "0"):
+        k = next((i for i, (p, q) in enumerate(zip(x, y, strict=True))
+                  if p == lead and q == other), None)
+        if k is not None and paired_differ(x[:k] + [str(1 - int(lead))] + x[k + 1:], y) == 0:
+            return True
+    return False
 
 
 def wilson_lower(k: int, n: int, z: float = 1.96) -> float:
@@ -557,9 +586,8 @@ def _halves_2d(n):
     """The 2D rule's two halves on the rate table ``n``: ``(robust, no_worse, best, top,
     behind)``: CLAP's share at the highest rate ``top`` not below its share at any rate (its
     best is at rate ``best``), CLAP nowhere below RANSAC (``behind``: the rates where it
-    is). Every rate
-    has the same frames, so both halves compare frame by frame (:func:`paired_differ` on
-    ``n["ok_by_frame"]``)."""
+    is). Every rate has the same frames, so both halves compare frame by frame
+    (:func:`paired_differ` on ``n["ok_by_frame"]``)."""
     rates = sorted({k.split("@")[1] for k in n if "@" in k})
     frames = n["ok_by_frame"]
     c = {r: n[f"clap@{r}"] for r in rates}
@@ -1282,14 +1310,8 @@ def _drops_2d(numbers: dict, top: str) -> str:
             continue
         other = frames[f"clap@{r}"]
         if paired_differ(t, other) < 0:
-            # one more correct frame at the top rate: one right at r (fewer frames differ) or
-            # one wrong at both (more differ, a wider error); on the edge if either undoes it
-            flips = [next((i for i, (p, q) in enumerate(zip(t, other, strict=True))
-                           if p == "0" and q == want), None) for want in ("1", "0")]
-            undone = any(paired_differ(t[:i] + "1" + t[i + 1:], other) >= 0
-                         for i in flips if i is not None)
             edge = (f"; on the edge: one more correct frame at {float(top):.0%} would undo "
-                    f"that drop" if undone else "")
+                    f"that drop" if paired_on_edge(t, other) else "")
             below.append(f"{float(r):.0%} ({numbers[f'clap@{r}']['ok']:.2f}{edge})")
         else:
             level.append(f"{float(r):.0%}")

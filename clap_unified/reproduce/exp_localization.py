@@ -26,10 +26,16 @@ from .progress import progress
 from .registry import experiment, finite_or_none
 
 
+def _within(errors, ok_within) -> np.ndarray:
+    """Per pose error ``(m, deg)`` (inf: no pose), whether it is within ``ok_within``."""
+    e = np.asarray(errors, dtype=float).reshape(-1, 2)
+    return (e[:, 0] < ok_within[0]) & (e[:, 1] < ok_within[1])
+
+
 def _rates(errors, ok_within, gross_beyond) -> dict:
     """Share of poses within ``ok_within`` (m, deg), share beyond ``gross_beyond``, median."""
     e = np.asarray(errors, dtype=float).reshape(-1, 2)
-    ok = (e[:, 0] < ok_within[0]) & (e[:, 1] < ok_within[1])
+    ok = _within(e, ok_within)
     gross = ~((e[:, 0] <= gross_beyond[0]) & (e[:, 1] <= gross_beyond[1]))
     return {"n": len(e), "ok": float(ok.mean()), "gross": float(gross.mean()),
             "median_cm": float(np.median(e[:, 0]) * 100)}
@@ -551,29 +557,20 @@ def run_localization2d(params: dict, seed: int) -> dict:
 
 
 def _numbers_2d(rows, params, sym_rows) -> dict:
-    numbers = {}
+    """The rate table of ``rows`` and, per ``method@rate``, ``ok_by_frame``: one character per
+    frame in frame order, ``1`` when the pose is within :data:`OK_2D`. The frames are the same
+    at every rate, so two rates (or two methods) are compared frame by frame (a paired test)."""
+    rows = sorted(rows, key=lambda r: r["frame"])  # frame order within each rate and method
+    numbers, frames = {}, {}
     for rate in params["false_positive_rates"]:
         for method in METHODS_2D:
-            numbers[f"{method}@{rate:.2f}"] = _rates(
-                _errors(rows, false_positive_rate=rate, method=method), OK_2D, GROSS_2D)
-    numbers["ok_by_frame"] = _ok_by_frame(rows, params)
+            key = f"{method}@{rate:.2f}"
+            errors = _errors(rows, false_positive_rate=rate, method=method)
+            numbers[key] = _rates(errors, OK_2D, GROSS_2D)
+            frames[key] = "".join("1" if ok else "0" for ok in _within(errors, OK_2D))
+    numbers["ok_by_frame"] = frames
     numbers["symmetry"] = _symmetry_numbers(sym_rows)
     return numbers
-
-
-def _ok_by_frame(rows, params) -> dict:
-    """Per ``method@rate``, a string with one character per frame in frame order: ``1`` when
-    the pose is within :data:`OK_2D`, else ``0``. The frames are the same at every rate, so
-    two rates (or two methods) are compared frame by frame (a paired test)."""
-    out = {}
-    for rate in params["false_positive_rates"]:
-        for method in METHODS_2D:
-            picked = sorted((r for r in rows if r["false_positive_rate"] == rate
-                             and r["method"] == method), key=lambda r: r["frame"])
-            out[f"{method}@{rate:.2f}"] = "".join(
-                "1" if r["e_t_m"] is not None and r["e_t_m"] < OK_2D[0]
-                and r["e_r_deg"] < OK_2D[1] else "0" for r in picked)
-    return out
 
 
 def _symmetry_numbers(sym_rows) -> dict:
