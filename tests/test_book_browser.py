@@ -72,6 +72,14 @@ const collect = () => {
       return p && p.tagName !== 'MAIN';
     }).map(t => 'table ' + Math.round(t.getBoundingClientRect().width) + ' px wide: '
                 + t.textContent.trim().slice(0, 50))];
+  // folded code, unfolded as a reader would: shown whole too (the stylesheet sets it smaller)
+  document.querySelectorAll('.tag_hide-input details, .tag_hide-cell details')
+    .forEach(d => { d.open = true; });
+  cutoff.push(...[...document.querySelectorAll(
+      '.tag_hide-input .cell_input pre, .tag_hide-cell .cell_input pre')]
+    .filter(p => p.getBoundingClientRect().width > 0 && p.scrollWidth > p.clientWidth + 1)
+    .map(p => 'folded code line of ' + longest(p) + ' characters: '
+              + p.textContent.trim().slice(0, 50)));
   const scripts = [...document.querySelectorAll('script[src]')].map(s => s.src);
   const links = [...document.querySelectorAll('a[href]')].map(a => a.href);
   done({mathjax: typeof MathJax !== 'undefined' && !!MathJax.startup,
@@ -183,8 +191,9 @@ def test_every_figure_loads_with_number_caption_and_alt(page, chapter):
 @pytest.mark.parametrize("path", [f"chapters/{c}" for c in CHAPTERS]
                          + ["intro.html", "choosing.html", "glossary.html"])
 def test_nothing_a_reader_sees_is_cut_off_at_the_columns_edge(page, path):
-    """At a 1280 px window, no visible code, printed output or table scrolls sideways (the
-    stylesheet sizes code for 88 characters; folded cells may scroll)."""
+    """At a 1280 px window, no visible code, printed output or table scrolls sideways, nor
+    does folded code once unfolded (the stylesheet sizes code for 88 characters, folded code
+    for 100; folded outputs may scroll)."""
     cutoff = page(path)["cutoff"]
     assert not cutoff, "cut off at the column's edge:\n" + "\n".join(cutoff)
 

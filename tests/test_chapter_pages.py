@@ -47,6 +47,8 @@ FOLDED = {"hide-input", "hide-cell"}
 MAX_VISIBLE_LINES = 20
 MAX_FOLDED_LINES = 45
 MAX_OUTPUT_WIDTH = 88
+#: Folded code is set smaller by the stylesheet, to show lines of this many characters whole.
+MAX_FOLDED_WIDTH = 100
 BARE_REPR = re.compile(r"\s*(Text\(|<matplotlib|<Figure)")
 BOOKKEEPING = re.compile(r"^\s*(glue|keep)\(", flags=re.MULTILINE)
 CITATION = re.compile(r"\{glue(?::\w*)?\}`([^`]+)`")
@@ -115,10 +117,14 @@ def _cell_defects(where: str, cell: dict) -> list[str]:
     if not tags & HIDDEN and n_lines > MAX_VISIBLE_LINES:
         defects.append(f"{where}: visible code cell of {n_lines} lines "
                        f"(at most {MAX_VISIBLE_LINES})")
-    if not tags & HIDDEN:  # the stylesheet fits 88 characters to the column; folded may scroll
-        defects += [f"{where}: a visible code line of {len(line)} characters (at most "
-                    f"{MAX_OUTPUT_WIDTH}): {line.strip()[:50]!r}..."
-                    for line in source.splitlines() if len(line) > MAX_OUTPUT_WIDTH]
+    # the stylesheet fits 88 characters of visible code and 100 of folded code to the column
+    width = (MAX_OUTPUT_WIDTH if not tags & HIDDEN
+             else MAX_FOLDED_WIDTH if tags & FOLDED else None)
+    if width:
+        kind = "folded" if tags & FOLDED else "visible"
+        defects += [f"{where}: a {kind} code line of {len(line)} characters (at most "
+                    f"{width}): {line.strip()[:50]!r}..."
+                    for line in source.splitlines() if len(line) > width]
     if tags & FOLDED and n_lines > MAX_FOLDED_LINES:
         defects.append(f"{where}: folded code cell of {n_lines} lines "
                        f"(at most {MAX_FOLDED_LINES})")
@@ -324,7 +330,11 @@ def test_a_visible_code_line_wider_than_the_column_is_a_defect():
     wide = "x = " + "1 + " * 25 + "1"
     assert "visible code line of 105 characters" in " ".join(page_defects({"cells": [
         _cell(wide)]}))
-    assert page_defects({"cells": [_cell(wide, tags=["hide-input"])]}) == []  # folded: scrolls
+    # folded code is set smaller: up to 100 characters are shown whole, a wider line is cut
+    assert page_defects({"cells": [_cell(wide[:MAX_FOLDED_WIDTH], tags=["hide-input"])]}) == []
+    assert "folded code line of 105 characters" in " ".join(page_defects({"cells": [
+        _cell(wide, tags=["hide-cell"])]}))
+    assert page_defects({"cells": [_cell(wide, tags=["remove-cell"])]}) == []  # not on the page
 
 
 def test_a_peer_goes_by_its_book_name():
