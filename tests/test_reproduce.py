@@ -219,6 +219,36 @@ def test_3d_rule(clap_ok, ransac_ok, n, verdict):
     assert _judge_3d(_numbers_3d(clap_ok, ransac_ok, n=n))[0] == verdict
 
 
+def _by_frame_3d(clap, ransac, ratios=("0.60", "0.80")):
+    """3D numbers with frame-by-frame outcomes (``"o"`` correct, ``"w"`` wrong, ``"n"`` no
+    pose), the same strings at every ratio."""
+    n = len(clap)
+    out = {}
+    for o in ratios:
+        for m, f in (("clap", clap), ("ransac", ransac)):
+            out[f"{m}@{o}"] = {"ok": f.count("o") / n, "wrong": f.count("w") / n,
+                               "none": f.count("n") / n, "n": n, "mirror": 0.0,
+                               "median_cm": 2.0}
+    out["by_frame"] = {f"{m}@{o}": f for o in ratios
+                       for m, f in (("clap", clap), ("ransac", ransac))}
+    return {"localization3d": {"numbers": out, "data": "x"}}
+
+
+def test_3d_rules_compare_the_same_frames_frame_by_frame():
+    # 80 frames, CLAP correct on 72, RANSAC on 64: two shares 0.10 apart, which a
+    # two-proportion test on 80 frames calls level
+    assert _judge_3d(_numbers_3d(0.9, 0.8, n=80))[0] == "partly reproduced"
+    # on the same frames, RANSAC's 64 among CLAP's 72: 8 frames differ, all one way
+    nested = _by_frame_3d("o" * 72 + "n" * 8, "o" * 64 + "n" * 16)
+    assert _judge_3d(nested)[0] == "reproduced"
+    # the same shares from 16 frames won by CLAP alone and 8 by RANSAC alone: level
+    crossed = _by_frame_3d("o" * 56 + "o" * 16 + "n" * 8, "o" * 56 + "n" * 16 + "o" * 8)
+    assert _judge_3d(crossed)[0] == "partly reproduced"
+    # RANSAC wrong where CLAP is right, on the same frames: the spurious contrast holds
+    spurious = _by_frame_3d("o" * 72 + "n" * 8, "o" * 62 + "w" * 10 + "n" * 8)
+    assert _judge_3d_spurious(spurious)[0] == "reproduced"
+
+
 def test_3d_rules_without_high_ratios_say_so():
     outputs = _numbers_3d(0.9, 0.9, ratios=("0.00", "0.40"))
     assert _judge_3d(outputs)[0] == "data unavailable"

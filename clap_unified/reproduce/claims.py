@@ -240,14 +240,25 @@ def _outcomes(x) -> str:
 
 def _comparisons_3d(n) -> tuple[list, list]:
     """The outlier ratios above 50 % of the ``localization3d`` numbers ``n`` and, per ratio,
-    ``(clap, ransac, ok, wrong)``: the two methods' numbers, :func:`rates_differ` of CLAP's
-    correct share over RANSAC's and of RANSAC's wrong share over CLAP's."""
+    ``(clap, ransac, ok, wrong)``: the two methods' numbers, whether CLAP's correct share is
+    above RANSAC's and RANSAC's wrong share above CLAP's (+1, -1 or 0).
+
+    Both methods run on the same frames, so the shares are compared frame by frame
+    (:func:`paired_differ` on ``n["by_frame"]``, one outcome character per frame); numbers
+    without ``by_frame`` fall back on :func:`rates_differ`."""
     high = _high_ratios(n)
+    frames = n.get("by_frame") or {}
     comparisons = []
     for o in high:
         a, b = n[f"clap@{o}"], n[f"ransac@{o}"]
-        comparisons.append((a, b, rates_differ(a["ok"], a["n"], b["ok"], b["n"]),
-                            rates_differ(b["wrong"], b["n"], a["wrong"], a["n"])))
+        fa, fb = frames.get(f"clap@{o}"), frames.get(f"ransac@{o}")
+        if fa is not None and fb is not None:
+            ok = paired_differ([c == "o" for c in fa], [c == "o" for c in fb])
+            wrong = paired_differ([c == "w" for c in fb], [c == "w" for c in fa])
+        else:
+            ok = rates_differ(a["ok"], a["n"], b["ok"], b["n"])
+            wrong = rates_differ(b["wrong"], b["n"], a["wrong"], a["n"])
+        comparisons.append((a, b, ok, wrong))
     return high, comparisons
 
 
@@ -300,7 +311,7 @@ def _fewer_spurious(comparisons) -> str:
 
     The second half is a contrast between the two methods at one ratio: RANSAC
     returns a wrong pose more often than CLAP *and* CLAP a correct one more often
-    than RANSAC, both by :func:`rates_differ`. Fewer wrong poses alone do not
+    than RANSAC, both by the paired test of :func:`_comparisons_3d`. Fewer wrong poses alone do not
     carry it: a method that gives no pose (or the same wrong one less often)
     is not "identifying the correct cluster".
     """
@@ -308,7 +319,7 @@ def _fewer_spurious(comparisons) -> str:
     wrong = [w for _, _, _, w in comparisons]
     consistent = _clap_consistent(comparisons)  # the first half
     # the second half, "whereas RANSAC occasionally converges to spurious solutions": at one
-    # ratio RANSAC more often wrong AND CLAP more often correct, both beyond rates_differ
+    # ratio RANSAC more often wrong AND CLAP more often correct, both beyond the paired test
     spurious = any(w > 0 and d > 0 for _, _, d, w in comparisons)
     # the same contrast in the raw shares only (within the noise): both ways, at one ratio
     higher = any(b["wrong"] > a["wrong"] and a["ok"] > b["ok"] for a, b, _, _ in comparisons)
@@ -634,7 +645,8 @@ CLAIMS = [
           ("localization3d",),
           "reproduced when at every false-detection ratio above 50 % CLAP's share of correct "
           "frames (within 5 cm and 1 deg) is above RANSAC's (by more than 0.05 and by more "
-          "than two standard errors of the difference, a two-proportion test) and at least "
+          "than two standard errors of the difference, a paired test on the same frames) and "
+          "at least "
           "0.8; partly when above at some ratio, or at "
           "least 0.8 and never below; else not reproduced. A frame without a pose is not "
           "correct",
@@ -656,11 +668,11 @@ CLAIMS = [
           "a wrong pose is one returned beyond 0.5 m or 5 deg (a frame without a pose is "
           "not one); the claim's two halves: CLAP consistently correct (at least 0.8 of the "
           "frames within 5 cm and 1 deg at every ratio above 50 %, nowhere below RANSAC by a "
-          "two-proportion test: a difference of more than 0.05 and more than two standard "
-          "errors) and, at one ratio above 50 %, RANSAC returning wrong poses more often than "
-          "CLAP and CLAP correct more often than RANSAC (both by that test: the frames RANSAC "
-          "gets wrong are frames CLAP gets right; fewer wrong poses without more correct ones "
-          "do not count); reproduced when both halves hold and "
+          "paired test on the same frames: a difference of more than 0.05 and more than two "
+          "standard errors) and, at one ratio above 50 %, RANSAC returning wrong poses more "
+          "often than CLAP and CLAP correct more often than RANSAC (both by that test: the "
+          "frames RANSAC gets wrong are frames CLAP gets right; fewer wrong poses without "
+          "more correct ones do not count); reproduced when both halves hold and "
           "RANSAC is less often wrong at no ratio; partly when the second holds alone (or "
           "CLAP is consistently correct and, at one ratio, RANSAC's shares are merely wrong "
           "more often and correct less often); not reproduced when neither holds or CLAP "

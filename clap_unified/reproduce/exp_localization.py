@@ -166,10 +166,24 @@ def outcome_numbers(rows) -> dict:
             "median_cm": finite_or_none(round(float(np.median(e)) * 100, 5)) if n else None}
 
 
+#: One character per frame in ``by_frame``: the frame's :func:`pose_outcome`.
+OUTCOME_CODES = {"ok": "o", "coarse": "c", "wrong": "w", "none": "n"}
+
+
 def _numbers_3d(rows, ratios) -> dict:
-    return {f"{m}@{o:.2f}": outcome_numbers([r for r in rows if r["method"] == m
-                                             and r["outlier_ratio"] == o])
-            for o in ratios for m in ("clap", "ransac")}
+    """The outcome shares of each ``method@ratio`` (:func:`outcome_numbers`) and, in
+    ``by_frame``, each one's outcomes in frame order, one character per frame
+    (:data:`OUTCOME_CODES`). Both methods see the same frames at a ratio, so they are
+    compared frame by frame (a paired test)."""
+    numbers, frames = {}, {}
+    for o in ratios:
+        for m in ("clap", "ransac"):
+            picked = sorted((r for r in rows if r["method"] == m and r["outlier_ratio"] == o),
+                            key=lambda r: r["frame"])
+            numbers[f"{m}@{o:.2f}"] = outcome_numbers(picked)
+            frames[f"{m}@{o:.2f}"] = "".join(OUTCOME_CODES[r["outcome"]] for r in picked)
+    numbers["by_frame"] = frames
+    return numbers
 
 
 def _frames_3d(landmark_map, trajectory, ratios, frames, seed, label):
