@@ -658,3 +658,25 @@ def test_full_runs_judge_every_alternative_on_the_protocols_seeds():
         full = EXPERIMENTS[name].full
         assert full["seeds"] >= 5, name
         assert full.get("variant_seeds", full["seeds"]) == full["seeds"], name
+
+
+def test_a_steady_failure_is_counted_beside_the_stability_claim():
+    from clap_unified.reproduce.claims import _judge_stability
+
+    def runs(pair, method, lies, corner):
+        return [{"pair": pair, "scene": "s", "method": method, "seed_index": j, "lie": v,
+                 "corner_px": corner} for j, v in enumerate(lies)]
+
+    # pair a: CLAP lands on the same wrong homography on every seed (corner error 40 px),
+    # RANSAC right but spread; pair b: CLAP right and steady, RANSAC spread
+    rows = (runs("a", "CLAP", [9.0, 9.0, 9.0], 40.0) + runs("a", "RANSAC", [0.1, 0.5, 1.0], 1.0)
+            + runs("b", "CLAP", [0.1, 0.1, 0.1], 1.0) + runs("b", "RANSAC", [0.1, 0.6, 1.2], 1.0))
+    out = {"homography_synthetic": {"data": "synthetic: x", "tables": {"stability": rows}}}
+    verdict, measured, numbers = _judge_stability(out)
+    assert verdict == "reproduced"  # the rule measures the spread alone
+    assert numbers["homography_synthetic"]["CLAP_steadier"] == 2
+    assert numbers["homography_synthetic"]["CLAP_steadier_failing"] == 1
+    assert "steady failure: CLAP 1, RANSAC 0" in measured
+    # without an exact truth (homogr) no failure is defined and none is counted
+    out = {"homography_homogr": {"data": "homogr: x", "tables": {"stability": rows}}}
+    assert "steady failure" not in _judge_stability(out)[1]

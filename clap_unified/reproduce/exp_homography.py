@@ -326,7 +326,8 @@ def _lie_runs(pairs, seed: int, desc: str, name: str, params: dict, size=None, i
             for j in range(n_seeds if n_seeds > 1 else 0):
                 stability += [{"pair": pm.name, "scene": pm.scene, "method": m,
                                "seed_index": j,
-                               "lie": finite_or_none(run(k, pm, j, m, variant)["lie"])}
+                               "lie": finite_or_none(run(k, pm, j, m, variant)["lie"]),
+                               "corner_px": finite_or_none(run(k, pm, j, m, variant)["corner"])}
                               for m in randomized]
         return rows, stability
 
