@@ -945,3 +945,61 @@ def test_the_chapter8_tenth_read_checks_catch_the_old_text():
          "source": "# 3. local mode at the decoy\nlines.append(f\"radius {r} px: no estimate; "
                    "the result's reason:\")\nf\"With a radius of {ok[0]:.0f} px or more\""}]}
     assert len(performance_tenth_defects(old, {"cells": []}, {"cells": []})) == 7
+
+
+# --- the eleventh read: chapter 7 says its idea first, one idea a paragraph ----------------
+
+#: The most words (counted in the source, a citation as one) in a paragraph of chapter 7's prose.
+MAX_PARAGRAPH_WORDS = 100
+FENCE = re.compile(r"```.*?```", flags=re.DOTALL)
+
+
+def long_paragraphs(texts: list[str], limit: int = MAX_PARAGRAPH_WORDS) -> list[str]:
+    """Paragraphs of prose (not headings, lists, tables or fenced blocks) over ``limit`` words."""
+    long = []
+    for text in texts:
+        for para in FENCE.sub("", text).split("\n\n"):
+            para = para.strip()
+            if para and not re.match(r"(#|\||\* |\d+\. )", para) and len(para.split()) > limit:
+                long.append(f"{len(para.split())} words: {para[:50]!r}...")
+    return long
+
+
+def opening_defects(texts: list[str]) -> list[str]:
+    """The section "One answer per cluster" states its idea (several structures, several
+    clusters) in its first paragraph, before any pointer to another chapter, and points to at
+    most one other chapter before its picture."""
+    text = next((t for t in texts if "## One answer per cluster" in t), "")
+    section = text.split("## One answer per cluster", 1)[-1].split("\n## ", 1)[0].strip()
+    first = section.split("\n\n", 1)[0]
+    defects = []
+    if "several structures, several clusters" not in " ".join(first.split()):
+        defects.append("the first paragraph does not state the idea")
+    if "{doc}" in first:
+        defects.append("the first paragraph points to another chapter")
+    if section.count("{doc}") > 1:
+        defects.append(f"{section.count('{doc}')} pointers to other chapters")
+    return defects
+
+
+def test_chapter7_states_its_idea_first_in_short_paragraphs():
+    texts = [_text(c["source"]) for c in _load("05c_many_answers")["cells"]
+             if c["cell_type"] == "markdown"]
+    assert long_paragraphs(texts) == []
+    assert opening_defects(texts) == []
+
+
+def test_the_chapter7_paragraph_checks_catch_the_old_opening():
+    old = ("## One answer per cluster\n\nEvery minimal sample of data gives a hypothesis. "
+           + "The rest scatter. " * 40 + "Each gathers its own pile: several structures, "
+           "several clusters. The book has met this in {doc}`03_localization_2d` ... and in "
+           "{doc}`06_performance` ... ({doc}`07_your_data`, exercise 2). Here several "
+           "structures are each an answer.\n\nThe picture: four lines and clutter.\n\n"
+           "## Warm-up: several lines\n\nText.")
+    assert len(long_paragraphs([old])) == 1
+    assert opening_defects([old]) == ["the first paragraph points to another chapter",
+                                      "3 pointers to other chapters"]
+    assert opening_defects(["## One answer per cluster\n\nThe book has met this.\n\n"
+                            "Several structures, several clusters."]) == [
+        "the first paragraph does not state the idea"]
+    assert long_paragraphs(["```{admonition} Hints\n" + "word " * 200 + "\n```"]) == []
