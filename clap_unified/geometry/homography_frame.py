@@ -11,11 +11,12 @@ pixel homographies in and out but measures them in the frame of the data:
 Distances (``metric``):
 
 * ``"lie"``: ``||log(Hn1^-1 Hn2)||_F`` of the normalised frame. All pairs are
-  first screened with the first-order value ``||Hn1^-1 Hn2 - I||_F``, which
-  costs two small matrix products for all pairs at once; the exact
-  logarithm is computed only for pairs below ``screen`` (the only ones that
-  can sit in one cluster), the others keep the symmetrised first-order value
-  of ``"lie_linear"`` (both are large for them). ``screen=np.inf`` computes
+  first screened with the symmetrised first-order value of ``"lie_linear"``,
+  ``(||Hn1^-1 Hn2 - I||_F + ||Hn2^-1 Hn1 - I||_F) / 2``, which costs a few
+  small matrix products for all pairs at once; the exact logarithm is
+  computed only for pairs below ``screen`` (the only ones that can sit in
+  one cluster), the others keep that first-order value (both are large for
+  them). ``screen=np.inf`` computes
   every logarithm.
 * ``"lie_linear"``: the first-order Lie distance, the symmetrised
   ``(||Hn1^-1 Hn2 - I||_F + ||Hn2^-1 Hn1 - I||_F) / 2``. It equals
@@ -153,8 +154,9 @@ class HomographyInFrame(Homography):
         Points given to and returned by every method are pixel homographies
         with ``H33 = 1``.
     screen : float
-        ``"lie"`` metric: exact logarithms only for pairs with
-        ``||Hn1^-1 Hn2 - I||_F < screen``.
+        ``"lie"`` metric: exact logarithms only for pairs whose first-order
+        distance ``(||Hn1^-1 Hn2 - I||_F + ||Hn2^-1 Hn1 - I||_F) / 2`` is below
+        ``screen``.
 
     Examples
     --------

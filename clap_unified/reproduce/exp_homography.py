@@ -72,7 +72,8 @@ DEVIATIONS = [
     {"paper": "d(H1, H2) = ||log(H1^-1 H2)||_F (Sec. Distance Metrics on Homographies)",
      "here": "the same logarithm of the candidates taken in the Hartley-normalised frame of "
              "the matches (T2 H T1^-1, determinant 1), exact for every pair whose first-order "
-             "distance ||Hn1^-1 Hn2 - I||_F is below 1 and the first-order value beyond (pairs "
+             "distance (||Hn1^-1 Hn2 - I||_F + ||Hn2^-1 Hn1 - I||_F) / 2 is below 1 and the "
+             "first-order value beyond (pairs "
              "that far apart are never neighbours); two alternatives take the exact logarithm "
              "for every pair and the first-order value for every pair",
      "why": "unspecified in the paper (the frame of the clustering); a choice: in pixels "

@@ -554,7 +554,8 @@ def run_localization2d(params: dict, seed: int) -> dict:
                     "the same poses and true detections at every false-detection rate",
             "protocol": "global mode, every observation pair matched to every type-compatible "
                         "pair of map landmarks (all candidates enumerated, the same for CLAP, "
-                        "RANSAC and the randomized Hough transform); CLAP bandwidth "
+                        "RANSAC and the Hough grid, a randomized Hough transform on an "
+                        "(x, y, theta) grid); CLAP bandwidth "
                         f"{_CLAP_2D['bandwidth']:g}, minimum support {_CLAP_2D['min_support']}, "
                         "medoid centre",
             "deviations": [
@@ -618,7 +619,7 @@ def figures_localization2d(output: dict) -> dict:
     rows = output["tables"]["errors"]
     rates = sorted({r["false_positive_rate"] for r in rows})
     fig, ax = plt.subplots(layout="constrained", figsize=(6.0, 3.6))
-    labels = {"clap": "CLAP", "ransac": "RANSAC", "randomized_hough": "Hough"}
+    labels = {"clap": "CLAP", "ransac": "RANSAC", "randomized_hough": "Hough grid"}
     for method, color in zip(METHODS_2D, ("C3", "C0", "C2"), strict=True):
         ok = [output["numbers"][f"{method}@{rate:.2f}"]["ok"] for rate in rates]
         ax.plot(np.array(rates) * 100, ok, "o-", color=color, label=labels[method])
