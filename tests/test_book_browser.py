@@ -62,9 +62,9 @@ const collect = () => {
   const shown = el => el.getBoundingClientRect().width > 0
     && !el.closest('.tag_hide-input, .tag_hide-cell, .tag_hide-output');
   const cutoff = [
-    ...[...document.querySelectorAll('.cell_input pre, .cell_output pre')]
+    ...[...document.querySelectorAll('.cell_input pre, .cell_output pre, main div.highlight pre')]
       .filter(p => shown(p) && p.scrollWidth > p.clientWidth + 1)
-      .map(p => (p.closest('.cell_input') ? 'code' : 'output') + ' line of '
+      .map(p => (p.closest('.cell_output') ? 'output' : 'code') + ' line of '
                 + longest(p) + ' characters: ' + p.textContent.trim().slice(0, 50)),
     ...[...document.querySelectorAll('main table')].filter(shown).filter(t => {
       let p = t.parentElement;
