@@ -553,3 +553,16 @@ def test_chapter6_mosaic_titles_are_legible_at_page_width():
                       "fig.suptitle(f\"CLAP (paper) mosaics, feathered: {source}\")\n"
                       "    ax.set_title(title, color=\"tab:red\" if framed else \"black\")\n"}]}
     assert len(mosaic_title_defects(old)) == 2
+
+
+#: Text that says the chapter measures what handing an estimator homogr's validation points
+#: would change: no chapter runs that check (evaluation data never reaches an estimator).
+LEAK_TALK = re.compile(r"handing\s+the\s+estimators|validation\s+points\s+as\s+extra\s+matches",
+                       flags=re.IGNORECASE)
+
+
+def test_ch5_promises_no_leak_measurement_it_does_not_run():
+    assert not LEAK_TALK.search(_markdown(_load(CH5)))
+    old = ("the homogr section measures what handing the estimators homogr's validation points "
+           "as extra\nmatches (noise-free, exact under the ground truth) would change.")
+    assert LEAK_TALK.search(old)
