@@ -332,3 +332,12 @@ def test_the_glossary_defines_the_terms_its_entries_and_chapter_5_use():
     assert "first-order distance" in terms and "SL(3)" in terms
     glossary = (BOOK / "glossary.md").read_text(encoding="utf-8")
     assert "{term}`first-order distance`" in glossary
+
+
+def test_the_glossary_defines_the_terms_the_twelfth_read_met_undefined():
+    """MAD and Weiszfeld iterations (chapter 1's robust centres), the Tanimoto distance
+    (T-Linkage) and P-NAPSAC (Progressive-X's published protocol, chapter 7)."""
+    glossary = (BOOK / "glossary.md").read_text(encoding="utf-8")
+    terms = set(re.findall(r"^(\S[^\n]*)\n  \S", glossary, flags=re.M))
+    assert {"MAD", "Weiszfeld iterations", "Tanimoto distance", "P-NAPSAC"} <= terms
+    assert "{term}`Tanimoto distance`" in glossary.split("\nT-Linkage\n")[1].split("\n\n")[0]
