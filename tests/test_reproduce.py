@@ -398,7 +398,9 @@ def test_evd_counts_the_pairs_won_where_both_fail():
     assert (n["farther"], n["farther_both_failed"], n["closer_both_failed"]) == (3, 2, 0)
     assert "both fail, each keeping fewer than 10% of the labelled inliers" in measured
     assert "on 0 of CLAP's and 2 of RANSAC's" in measured
+    # both halves of the rule: the labelled inliers kept, then the distance to the truth
     assert HEADLINES["stitching_outliers"][1](n) == (
+        "pairs keeping more labelled inliers (by more than 0.05): CLAP 0, RANSAC 1; "
         "pairs closer to the truth (by more than 1.1x): CLAP 0, RANSAC 3 (2 of them where "
         "both fail) of 3")
 

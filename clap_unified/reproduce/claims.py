@@ -1103,11 +1103,15 @@ HEADLINES = {
                                + (f"; on the edge: {n['edge']}" if n.get("edge") else "")
                                + ")"),
     "stitching_outliers": (CLAIM_TITLES["stitching_outliers"],
-                           lambda n: f"pairs closer to the truth (by more than "
-                                     f"{CLOSER:g}x): CLAP {n['closer']}"
-                                     f"{_both_failed(n, 'closer')}, RANSAC "
-                                     f"{n['farther']}{_both_failed(n, 'farther')} of "
-                                     f"{n['pairs']}"),
+                           lambda n: (f"pairs keeping more labelled inliers (by more than "
+                                      f"{MARGIN:g}): CLAP {n['recall_clap_more']}, RANSAC "
+                                      f"{n['recall_ransac_more']}; "
+                                      if "recall_clap_more" in n else "")
+                           + f"pairs closer to the truth (by more than "
+                             f"{CLOSER:g}x): CLAP {n['closer']}"
+                             f"{_both_failed(n, 'closer')}, RANSAC "
+                             f"{n['farther']}{_both_failed(n, 'farther')} of "
+                             f"{n['pairs']}"),
     "2d_outliers": (CLAIM_TITLES["2d_outliers"], lambda n: _headline_2d(n)),
     "2d_symmetry": (CLAIM_TITLES["2d_symmetry"],
                     lambda n: f"tied pose and mirror in {n['pose_and_mirror_tied']:.0%} of "
