@@ -446,3 +446,118 @@ def test_one_abstraction_figures_and_tables_agree_on_what_they_draw():
                    'markdown_table(rows, [("rho", "7.4f")])\n'
                    'print(f"medoid: rho = {my_medoid[1]:.4f}")'}]}
     assert len(one_abstraction_figure_defects(old)) == 5
+
+
+# --- the twelfth read: chapters 1-4 -------------------------------------------------------
+
+#: "steps within 2 deg on every scene: [...]", "  step 0.05 fails on scene(s) [0]", "it lies
+#: inside the band 0.02 to 0.5 ..." in chapter 2's exercise 3 solution.
+FAILING_STEP = re.compile(r"step ([\d.]+) fails on scene")
+BAND = re.compile(r"inside the band ([\d.]+) to ([\d.]+) of the steps that hold(.*)", re.S)
+
+
+def band_gap_unsaid(output: str) -> list[str]:
+    """Steps inside the band the answer calls "the steps that hold" that fail on a scene,
+    where the answer does not name them after the band (the reader found 0.05 failing)."""
+    band = BAND.search(output)
+    if not band:
+        return []
+    lo, hi, after = float(band.group(1)), float(band.group(2)), band.group(3)
+    return [step for step in FAILING_STEP.findall(output)
+            if lo < float(step) < hi and f"{step} fails" not in after]
+
+
+#: A percentage without the page's space ("60%"), or a share stated twice.
+TIGHT_PERCENT = re.compile(r"\d%")
+SHARE_AT = re.compile(r"(\d\.\d{3}) at (\d+) ?%")
+AT_MOST = re.compile(r"at most (\d\.\d{3}) \(at (\d+) ?%\)")
+
+
+def along_words_defects(words: str) -> list[str]:
+    """Chapter 3's sentence along the rates: one spacing of "%", each share said once."""
+    defects = [f"'%' without a space: {m.group(0)!r}" for m in TIGHT_PERCENT.finditer(words)]
+    said = set(SHARE_AT.findall(AT_MOST.sub("", words)))
+    defects += [f"the best share said twice: {m.group(0)!r}" for m in AT_MOST.finditer(words)
+                if m.groups() in said]
+    return defects
+
+
+def _code(notebook: dict) -> str:
+    return "\n".join(_text(c["source"]) for c in notebook["cells"] if c["cell_type"] == "code")
+
+
+def _cell_outputs(notebook: dict, starts: str) -> str:
+    cell = next(c for c in notebook["cells"] if c["cell_type"] == "code"
+                and _text(c["source"]).startswith(starts))
+    return "".join(_text(o.get("text", "")) for o in cell.get("outputs", []))
+
+
+def twelfth_read_defects(ch1: dict, ch2: dict, ch3: dict, ch4: dict) -> list[str]:
+    """Chapters 1-4 as the twelfth reader found them."""
+    defects = []
+    metric = [t for t in markdown_cells(ch1) if "true metric: the next section" in t]
+    if not any("SE2" in t and "triangle inequality" in t for t in metric):
+        defects.append("ch 1 prints 'true metric: False' for SE2, SE3, Homography unexplained")
+    gaps = band_gap_unsaid(_cell_outputs(ch2, "# Exercise 3"))
+    if gaps:
+        defects.append(f"ch 2 exercise 3 calls a band with failing steps {gaps} unbroken")
+    prose3, code3 = "".join(markdown_cells(ch3)), _code(ch3)
+    if "Hough grid" in prose3 or "Hough grid" in code3:
+        defects.append("ch 3 names randomized Hough 'Hough grid' beside the claims' names")
+    if "brings the filter back" in prose3 or "RANSAC's global answer was not run" not in prose3:
+        defects.append("ch 3 credits the recovery to CLAP without a RANSAC-fed filter run")
+    defects += [f"ch 3: {d}" for d in
+                along_words_defects(glued_values(ch3).get("c3_along_words", ""))]
+    far = next(_text(c["source"]) for c in ch3["cells"] if c["cell_type"] == "code"
+               and 'ylabel="more than 1 m off"' in _text(c["source"]))
+    if "axes[1].set_ylim(bottom=0)" not in far:
+        defects.append("ch 3's 'more than 1 m off' axis does not start at 0")
+    code4 = _code(ch4)
+    if "PC_METHODS = [\"CLAP (the library's)\"," in code4:
+        defects.append("ch 4 labels 10^6 triplets as the library's CLAP with its defaults")
+    tracking = [t for out in shown_outputs(ch4) for t in markdown_tables(out)
+                if "(mirror)" in t[0]]
+    if not tracking or "coarse" not in tracking[0][0]:
+        defects.append("ch 4's tracking table has no coarse column")
+    walk = next(t for t in markdown_cells(ch4) if "step-rate bobbing" in t)
+    if not (_cites(walk, "c4_walk_n") and _cites(walk, "c4_n_frames")):
+        defects.append("ch 4 does not say whether its 60 poses are the experiment's 80")
+    return defects
+
+
+def test_chapters_1_4_answer_the_twelfth_read():
+    defects = twelfth_read_defects(*(_notebook(s) for s in (
+        "01_one_abstraction", "02_line_fitting", "03_localization_2d", "04_localization_3d")))
+    assert not defects, defects
+
+
+def test_the_twelfth_read_checks_catch_the_old_text():
+    def md(text):
+        return {"cell_type": "markdown", "metadata": {}, "source": text}
+
+    def code(text, outputs=()):
+        return {"cell_type": "code", "metadata": {}, "source": text, "outputs": list(outputs)}
+
+    ch1 = {"cells": [md("none of\nthe distances is a true metric: the next section shows why.")]}
+    ch2 = {"cells": [code("# Exercise 3: the offset steps", [{"output_type": "stream", "text":
+        "steps within 2 deg on every scene: [0.02, 0.1, 0.2, 0.5]\n  step 0.05 fails on "
+        "scene(s) [0]\nThe default step (0.078 to 0.090) holds on all five scenes;\nit lies "
+        "inside the band 0.02 to 0.5 of the steps that hold.\n"}])]}
+    along = ("CLAP (paper)'s share is 0.833 at 0 %, 0.800 at 60% and at most 0.833 (at 0%); "
+             "on the same frames")
+    ch3 = {"cells": [
+        md("the Hough grid is behind. * In tracking, that global answer is what brings the "
+           "filter back after a push"),
+        code('short = {"randomized_hough": "Hough grid"}\n'
+             'axes[1].set(xlabel="false detections (%)", ylabel="more than 1 m off")'),
+        code("glue(...)", [{"output_type": "display_data", "data": {
+            "application/papermill.record/text/plain": repr(along)},
+            "metadata": {"scrapbook": {"name": "c3_along_words"}}}])]}
+    ch4 = {"cells": [
+        md("with step-rate bobbing and sway. A camera"),
+        code("PC_METHODS = [\"CLAP (the library's)\", \"RANSAC (same triplets)\"]",
+             [{"output_type": "display_data", "data": {"text/markdown":
+               "| method | ok | wrong | (mirror) | no pose |\n|---|---|---|---|---|\n"
+               "| CLAP | 1 | 2 | 0 | 3 |\n"}}])]}
+    assert len(along_words_defects(along)) == 3
+    assert len(twelfth_read_defects(ch1, ch2, ch3, ch4)) == 11

@@ -341,3 +341,45 @@ def test_the_glossary_defines_the_terms_the_twelfth_read_met_undefined():
     terms = set(re.findall(r"^(\S[^\n]*)\n  \S", glossary, flags=re.M))
     assert {"MAD", "Weiszfeld iterations", "Tanimoto distance", "P-NAPSAC"} <= terms
     assert "{term}`Tanimoto distance`" in glossary.split("\nT-Linkage\n")[1].split("\n\n")[0]
+
+# --- the twelfth read: the guide's "why" paragraph, the glossary's polish and paired test ----
+
+def _entry(glossary: str, term: str) -> str:
+    """A glossary entry's text, its indented lines below the term."""
+    return " ".join(glossary.split(f"\n{term}\n", 1)[1].split("\n\n", 1)[0].split())
+
+
+def guide_glossary_twelfth_defects(guide: str, glossary: str) -> list[str]:
+    """The guide read "chapters 4 and 5 (homographies)" and "their nearest neighbours" (the
+    library's CLAP ranks by the k-th, k = 2); the glossary put the polish's zero weight at the
+    threshold (the library's homography CLAP puts it at PROTOCOLS["clap"]["polish"] times it)
+    and ended "paired test" with a sentence the reader could not parse."""
+    from clap_unified.imaging import PROTOCOLS
+
+    defects = []
+    if "chapters 4 and 5 ([homographies]" in guide:
+        defects.append("'chapters 4 and 5 (homographies)': chapter 4 is about poses")
+    if "distance to their nearest neighbours" in guide:
+        defects.append("the guide's 'nearest neighbours' where CLAP ranks by the k-th")
+    polish = _entry(glossary, "polish")
+    if f"polish={PROTOCOLS['clap']['polish']}" not in polish:
+        defects.append("the polish entry omits the library's CLAP's wider polish")
+    if "would call noise when the frames, not the method, vary" in _entry(glossary,
+                                                                          "paired test"):
+        defects.append("the paired test's last sentence is hard to parse")
+    return defects
+
+
+def test_the_guide_and_glossary_answer_the_twelfth_read():
+    defects = guide_glossary_twelfth_defects((BOOK / "choosing.md").read_text(encoding="utf-8"),
+                                             (BOOK / "glossary.md").read_text(encoding="utf-8"))
+    assert not defects, defects
+
+
+def test_the_guide_and_glossary_twelfth_checks_catch_the_old_text():
+    guide = ("why chapters 4 and 5 ([homographies](chapters/05_homographies.ipynb)) compare; "
+             "it ranks candidates by the distance to their nearest neighbours and")
+    glossary = ("\npaired test\n  the rule's margin. It sees a change that a two-proportion test"
+                "\n  on the same shares would call noise when the frames, not the method, vary."
+                "\n\npolish\n  weights fall smoothly to zero at the inlier threshold.\n\n")
+    assert len(guide_glossary_twelfth_defects(guide, glossary)) == 4
