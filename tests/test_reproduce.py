@@ -481,6 +481,9 @@ def test_2d_rules():
     assert _judge_2d(numbers((0.9, 0.9, 0.6), (0.9, 0.9, 0.9)))[0] == "not reproduced"
     assert _judge_2d(numbers((0.9, 0.9, 0.6), (0.9, 0.9, 0.5)))[0] == "partly reproduced"
     assert _judge_symmetry(numbers((0.9,) * 3, (0.9,) * 3))[0] == "reproduced"
+    # the third method goes by chapter 3's name for it
+    measured = _judge_2d(numbers((0.9,) * 3, (0.9,) * 3))[1]
+    assert "randomized Hough 0.50" in measured and "Hough grid" not in measured
 
 
 def test_cli_exit_status_2_for_missing_data_and_no_scheduler(tmp_path, capsys, monkeypatch):

@@ -636,7 +636,7 @@ def _judge_2d(outputs):
     verdict = ("reproduced" if robust and no_worse else
                "partly reproduced" if robust or no_worse else "not reproduced")
     measured = "; ".join(f"{float(r):.0%} false: CLAP {n[f'clap@{r}']['ok']:.2f}, RANSAC "
-                         f"{n[f'ransac@{r}']['ok']:.2f}, Hough grid "
+                         f"{n[f'ransac@{r}']['ok']:.2f}, randomized Hough "
                          f"{n[f'randomized_hough@{r}']['ok']:.2f}"
                          for r in rates)
     return verdict, (f"share of {n[f'clap@{top}']['n']} frames per rate within 10 cm and 2 deg: "

@@ -447,7 +447,7 @@ experiment("localization3d", "3D localization on the symmetric RoboCup field: CL
 # ------------------------------------------------------------------------- 2D
 #: 2D (as chapter 3): correct within 10 cm and 2 deg, off beyond 1 m (or 180 deg).
 OK_2D, GROSS_2D = (0.10, 2.0), (1.0, 180.0)
-#: The strategies compared on the same candidates (the Hough grid is the randomized
+#: The strategies compared on the same candidates (randomized Hough: the randomized
 #: Hough transform on an (x, y, theta) grid).
 METHODS_2D = ("clap", "ransac", "randomized_hough")
 
@@ -554,8 +554,8 @@ def run_localization2d(params: dict, seed: int) -> dict:
                     "the same poses and true detections at every false-detection rate",
             "protocol": "global mode, every observation pair matched to every type-compatible "
                         "pair of map landmarks (all candidates enumerated, the same for CLAP, "
-                        "RANSAC and the Hough grid, a randomized Hough transform on an "
-                        "(x, y, theta) grid); CLAP bandwidth "
+                        "RANSAC and the randomized Hough transform, on an (x, y, theta) grid); "
+                        "CLAP bandwidth "
                         f"{_CLAP_2D['bandwidth']:g}, minimum support {_CLAP_2D['min_support']}, "
                         "medoid centre",
             "deviations": [
@@ -619,7 +619,7 @@ def figures_localization2d(output: dict) -> dict:
     rows = output["tables"]["errors"]
     rates = sorted({r["false_positive_rate"] for r in rows})
     fig, ax = plt.subplots(layout="constrained", figsize=(6.0, 3.6))
-    labels = {"clap": "CLAP", "ransac": "RANSAC", "randomized_hough": "Hough grid"}
+    labels = {"clap": "CLAP", "ransac": "RANSAC", "randomized_hough": "randomized Hough"}
     for method, color in zip(METHODS_2D, ("C3", "C0", "C2"), strict=True):
         ok = [output["numbers"][f"{method}@{rate:.2f}"]["ok"] for rate in rates]
         ax.plot(np.array(rates) * 100, ok, "o-", color=color, label=labels[method])
