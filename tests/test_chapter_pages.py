@@ -626,3 +626,68 @@ def test_a_figure_without_a_caption_is_a_defect():
     hidden = _cell("plt.show()", [figure], tags=["remove-output"])
     assert figure_defects({"cells": [bare, told, hidden]}) == [
         "cell 0: a figure without a caption", "cell 0: a figure without alt text"]
+
+
+def _names(source: str) -> tuple[set[str], set[str]]:
+    """The names a cell defines at its top level and the names it reads."""
+    import ast
+
+    tree = ast.parse(source)
+    defined = set()
+    for node in tree.body:
+        if isinstance(node, (ast.FunctionDef, ast.ClassDef)):
+            defined.add(node.name)
+        elif isinstance(node, (ast.Import, ast.ImportFrom)):
+            defined |= {(a.asname or a.name).split(".")[0] for a in node.names}
+        elif isinstance(node, (ast.Assign, ast.AnnAssign, ast.AugAssign, ast.For, ast.With)):
+            targets = (node.targets if isinstance(node, ast.Assign) else
+                       [node.target] if hasattr(node, "target") else
+                       [i.optional_vars for i in node.items if i.optional_vars])
+            defined |= {n.id for t in targets for n in ast.walk(t) if isinstance(n, ast.Name)}
+    read = {n.id for n in ast.walk(tree) if isinstance(n, ast.Name)
+            and isinstance(n.ctx, ast.Load)}
+    return defined, read
+
+
+def how_to_read_defects(notebook: dict) -> list[str]:
+    """A chapter whose visible code reads names that only folded cells define says so near
+    its top ("How to read the code", naming some of them); each name it gives is one of them."""
+    folded_defs, visible_defs, visible_reads = set(), set(), set()
+    for cell in notebook["cells"]:
+        if cell["cell_type"] != "code":
+            continue
+        defined, read = _names(_text(cell["source"]))
+        if _tags(cell) & HIDDEN:
+            folded_defs |= defined
+        else:
+            visible_defs |= defined
+            visible_reads |= read
+    borrowed = (folded_defs - visible_defs) & visible_reads
+    if not borrowed:
+        return []
+    intro = "\n\n".join(_text(c["source"]) for c in notebook["cells"][:4]
+                         if c["cell_type"] == "markdown")
+    if "**How to read the code.**" not in intro:
+        some = ", ".join(sorted(borrowed)[:5])
+        return [f"visible code reads names only folded cells define ({some}...) and the "
+                "chapter does not say so"]
+    said = re.findall(r"`(\w+)`", intro.split("**How to read the code.**", 1)[1].split("\n\n")[0])
+    if not said:
+        return ["'How to read the code' names none of them"]
+    return [f"'How to read the code' names {n}, which visible code does not borrow from a "
+            "folded cell" for n in said if n not in borrowed]
+
+
+@pytest.mark.parametrize("path", [_param(p) for p in CHAPTERS])
+def test_a_chapter_says_where_its_visible_code_s_names_come_from(path):
+    assert not how_to_read_defects(json.loads(path.read_text(encoding="utf-8")))
+
+
+def test_the_how_to_read_check_catches_an_unsaid_or_wrong_name():
+    folded = _cell("N = 3\ndef helper():\n    pass", tags=["hide-input"])
+    visible = _cell("helper()\nprint(N)")
+    assert how_to_read_defects({"cells": [folded, visible]})
+    said = _markdown("**What it assumes.** x\n\n**How to read the code.** (`N`, `helper`)")
+    assert not how_to_read_defects({"cells": [said, folded, visible]})
+    wrong = _markdown("**How to read the code.** (`M`)")
+    assert how_to_read_defects({"cells": [wrong, folded, visible]})
