@@ -650,8 +650,9 @@ def _names(source: str) -> tuple[set[str], set[str]]:
 
 
 def how_to_read_defects(notebook: dict) -> list[str]:
-    """A chapter whose visible code reads names that only folded cells define says so near
-    its top ("How to read the code", naming some of them); each name it gives is one of them."""
+    """A chapter whose visible code reads names that only hidden cells define (folded on the
+    page, or left out of it and shown in the notebook) says so near its top ("How to read the
+    code", naming some of them); each name it gives is one of them."""
     folded_defs, visible_defs, visible_reads = set(), set(), set()
     for cell in notebook["cells"]:
         if cell["cell_type"] != "code":

@@ -132,14 +132,20 @@ def test_experiment_output_format_and_no_truth_reaches_an_estimator(monkeypatch)
     assert {"data", "protocol", "deviations", "tables", "numbers", "variants"} <= set(out)
     assert out["data"].startswith("substitute")
     assert all(set(d) == {"paper", "here", "why"} for d in out["deviations"])
-    assert set(out["numbers"]) == {"clap@0.00", "ransac@0.00", "clap@0.60", "ransac@0.60"}
+    rates = {"clap@0.00", "ransac@0.00", "clap@0.60", "ransac@0.60"}
+    assert set(out["numbers"]) == rates | {"by_frame"}
     keys = {"n", "ok", "wrong", "none", "mirror", "median_cm"}
-    assert all(set(v) == keys and v["n"] == 3 for v in out["numbers"].values())
+    assert all(set(out["numbers"][k]) == keys and out["numbers"][k]["n"] == 3 for k in rates)
+    # each method's outcome per frame, in frame order (the paired test's input)
+    frames = out["numbers"]["by_frame"]
+    assert set(frames) == rates and all(len(f) == 3 and set(f) <= set("ocwn")
+                                        for f in frames.values())
     kinds = {v["kind"] for v in out["variants"].values()}
     assert kinds == {"sensitivity", "extension", "control"}
     for v in out["variants"].values():
-        assert set(v["numbers"]) == {"clap@0.60", "ransac@0.60"} and v["label"]
-        assert all(set(x) == keys for x in v["numbers"].values())
+        assert set(v["numbers"]) == {"clap@0.60", "ransac@0.60", "by_frame"} and v["label"]
+        assert all(set(x) == keys for k, x in v["numbers"].items() if k != "by_frame")
+        assert set(v["numbers"]["by_frame"]) == {"clap@0.60", "ransac@0.60"}
     assert {"other_mode", "budget_100", "lab_map", "correspondences_100", "control_silent",
             "min_support_half", "min_support_double", "bandwidth_half", "bandwidth_double",
             "consensus", "control_ungated"} == set(out["variants"])

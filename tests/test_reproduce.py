@@ -249,6 +249,18 @@ def test_3d_rules_compare_the_same_frames_frame_by_frame():
     assert _judge_3d_spurious(spurious)[0] == "reproduced"
 
 
+def test_3d_explanation_compares_as_the_verdict_does():
+    """Claim 2's explanation reads the judge's table: with the frames in it, it uses the
+    paired test as the verdict does. Here CLAP is below RANSAC frame by frame (7 frames, all
+    one way) though a two-proportion test would call the shares level."""
+    from clap_unified.reproduce.claims import evaluate_claims
+
+    out = _by_frame_3d("o" * 69 + "n" * 11, "o" * 76 + "n" * 4)
+    c = next(x for x in evaluate_claims(out) if x["key"] == "3d_spurious")
+    assert c["verdict"] == "not reproduced"
+    assert "which fails" in c["explanation"] and "below RANSAC by that test" in c["explanation"]
+
+
 def test_3d_rules_without_high_ratios_say_so():
     outputs = _numbers_3d(0.9, 0.9, ratios=("0.00", "0.40"))
     assert _judge_3d(outputs)[0] == "data unavailable"

@@ -281,6 +281,8 @@ def _judge_3d_at_high_ratios(decide, what):
                                 f"{_outcomes(b)}"
                                 for o, (a, b, _, _) in zip(high, comparisons, strict=True)))
         table = {f"{m}@{o}": n[f"{m}@{o}"] for m in ("clap", "ransac") for o in high}
+        if n.get("by_frame"):  # the explanation compares as the verdict does: frame by frame
+            table["by_frame"] = {k: n["by_frame"][k] for k in table if k in n["by_frame"]}
         return decide(comparisons), measured, table
     return judge
 
