@@ -683,8 +683,8 @@ def test_no_chapter_narrates_a_cell_removed_from_the_page():
 
 
 ABLATION_KEYS = {"ab_paper": "densest-cluster reading", "ab_transfer": "+ anchor-transfer",
-                 "ab_knn": "+ k-NN seeds", "ab_polish": "+ wider polish",
-                 "ab_default": "+ adaptive budget"}
+                 "ab_budget": "+ 1000 candidates", "ab_knn": "+ k-NN seeds",
+                 "ab_polish": "+ wider polish", "ab_default": "+ adaptive budget"}
 
 
 def ablation_step_defects(nb: dict) -> list[str]:
