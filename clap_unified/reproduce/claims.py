@@ -514,9 +514,12 @@ def _judge_closer(outputs):
 
 def _judge_stability(outputs):
     def steadier(name, output):
-        spread = {}
-        for r in output["tables"]["stability"]:
+        rows = output["tables"]["stability"]
+        spread, failed_runs = {}, {}
+        for r in rows:
             spread.setdefault((r["pair"], r["method"]), []).append(_v(r["lie"]))
+            if "corner_px" in r:
+                failed_runs.setdefault((r["pair"], r["method"]), []).append(_failed(r))
         pairs = sorted({p for p, _ in spread})
         width = {k: (max(v) - min(v)) if all(math.isfinite(x) for x in v) else math.inf
                  for k, v in spread.items()}
@@ -533,12 +536,10 @@ def _judge_stability(outputs):
         numbers = {"pairs": len(pairs), "seeds": seeds, "CLAP_steadier": clap,
                    "RANSAC_steadier": ransac}
         failed = ""
-        rows = output["tables"]["stability"]
         if name in _EXACT_TRUTH and rows and all("corner_px" in r for r in rows):
             # a method that lands on the same wrong homography on every seed is steady too:
             # such pairs are counted, and kept (the rule measures the spread alone)
-            always = {k for k in spread if all(_failed(r) for r in rows
-                                               if (r["pair"], r["method"]) == k)}
+            always = {k for k, v in failed_runs.items() if all(v)}
             steady_fail = {m: sum((p, m) in always and narrower_on(p, m, o)
                                   for p in pairs)
                            for m, o in (("CLAP", "RANSAC"), ("RANSAC", "CLAP"))}

@@ -325,11 +325,11 @@ def _lie_runs(pairs, seed: int, desc: str, name: str, params: dict, size=None, i
                                                       for m in labels]):
                 rows.append({**r, "gt_inlier_ratio": w})
             for j in range(n_seeds if n_seeds > 1 else 0):
-                stability += [{"pair": pm.name, "scene": pm.scene, "method": m,
-                               "seed_index": j,
-                               "lie": finite_or_none(run(k, pm, j, m, variant)["lie"]),
-                               "corner_px": finite_or_none(run(k, pm, j, m, variant)["corner"])}
-                              for m in randomized]
+                for m in randomized:
+                    r = run(k, pm, j, m, variant)
+                    stability.append({"pair": pm.name, "scene": pm.scene, "method": m,
+                                      "seed_index": j, "lie": finite_or_none(r["lie"]),
+                                      "corner_px": finite_or_none(r["corner"])})
         return rows, stability
 
     def n_seeds(variant):
