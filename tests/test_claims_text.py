@@ -132,7 +132,7 @@ def test_a_partly_reproduced_2d_claim_says_why_from_its_numbers():
     claims = evaluate_claims(_outputs_2d((0.9, 0.9, 0.7), (0.9, 0.9, 0.6), (0.3, 0.3, 0.3)))
     c = _claim(claims, "2d_outliers")
     assert c["verdict"] == "partly reproduced"
-    assert ("falls from its best, 0.90 at 0% false detections, to 0.70 at 60%"
+    assert ("falls from its best, 0.90 at 0 % false detections, to 0.70 at 60 %"
             in c["explanation"])
     assert "the first half (no fall as false detections grow) fails" in c["explanation"]
     assert "CLAP is below RANSAC at no rate, so the second half holds" in c["explanation"]
@@ -142,7 +142,7 @@ def test_a_partly_reproduced_2d_claim_says_why_from_its_numbers():
                                            (0.3, 0.3, 0.3))), "2d_outliers")
     assert c["verdict"] == "partly reproduced"
     assert "is not below its best" in c["explanation"]
-    assert "CLAP is below RANSAC at 60%, so the second half fails" in c["explanation"]
+    assert "CLAP is below RANSAC at 60 %, so the second half fails" in c["explanation"]
 
 
 def test_rendered_claims_hold_no_identifiers_and_no_doubled_labels():
@@ -156,6 +156,9 @@ def test_rendered_claims_hold_no_identifiers_and_no_doubled_labels():
     for page in pages:
         assert not _identifiers(page), _identifiers(page)
         assert not DOUBLED.search(page), DOUBLED.search(page)
+        # a percentage as the chapters write it ("60 %"), except inside the paper's quotes
+        ours = re.sub(r'"[^"]*"', "", page)
+        assert not re.search(r"\d%", ours), re.findall(r".{30}\d%.{10}", ours)
     # the claim keys stay in claims.json, not on the page
     assert not any(c.key in _prose(pages[0] + pages[1]) for c in CLAIMS)
     # nor the experiments' names, not even as code: an experiment not run is said in words
@@ -473,9 +476,9 @@ def test_the_2d_verdict_names_the_rates_its_drop_rests_on():
     counts = {"0.00": 118, "0.10": 117, "0.30": 122, "0.50": 133, "0.60": 114}
     c = _claim(evaluate_claims(_outputs_2d_counts(counts, {})), "2d_outliers")
     assert c["verdict"] == "partly reproduced"
-    assert ("by that test the 60% share is below the shares at 30% (0.81; on the edge: one "
-            "more correct frame at 60% would undo that drop) and 50% (0.89), and not below "
-            "the shares at 0% and 10%") in c["explanation"]
+    assert ("by that test the 60 % share is below the shares at 30 % (0.81; on the edge: one "
+            "more correct frame at 60 % would undo that drop) and 50 % (0.89), and not below "
+            "the shares at 0 % and 10 %") in c["explanation"]
     assert "every rate has the same 150 frames" in c["explanation"]
 
 
@@ -494,7 +497,7 @@ def test_a_control_that_weakens_clap_under_a_claim_not_reproduced_says_what_it_c
     assert "it weakens CLAP, not the baseline" in control["note"]
     assert "can only confirm that verdict" in control["note"]
     # CLAP's own share is below the rule's 0.8: no weakened baseline could reach "reproduced"
-    assert ("CLAP (paper) is correct in 0.76 of the frames at 60% false, so with this CLAP the "
+    assert ("CLAP (paper) is correct in 0.76 of the frames at 60 % false, so with this CLAP the "
             "rule reads at best \"partly reproduced\"") in control["note"]
     assert "it weakens CLAP, so it could only confirm" in verdicts_markdown([c])
     # every control the experiments run says what it weakens
@@ -601,15 +604,15 @@ def test_the_2d_headline_shows_the_numbers_its_verdict_rests_on():
     out = _outputs_2d_counts({"0.00": 118, "0.50": 133, "0.60": 114}, {"0.60": 0.71})
     c = _claim(evaluate_claims(out), "2d_outliers")
     assert c["verdict"] == "partly reproduced"
-    assert c["headline"] == ("correct: CLAP (paper) 0.89 at 50% false -> 0.76 at 60%; "
-                             "nowhere below RANSAC (0.71 at 60%)")
+    assert c["headline"] == ("correct: CLAP (paper) 0.89 at 50 % false -> 0.76 at 60 %; "
+                             "nowhere below RANSAC (0.71 at 60 %)")
     assert len(c["headline"]) < MAX_TABLE_CELL
     # the other half failing: steady, but behind RANSAC at 60 %
     out = _outputs_2d_counts({"0.00": 120, "0.50": 120, "0.60": 120}, {"0.60": 0.95})
     c = _claim(evaluate_claims(out), "2d_outliers")
     assert c["verdict"] == "partly reproduced"
-    assert c["headline"] == ("correct: CLAP (paper) 0.80 at 60% false, no fall; below RANSAC "
-                             "at 60% (RANSAC 0.95 at 60%)")
+    assert c["headline"] == ("correct: CLAP (paper) 0.80 at 60 % false, no fall; below RANSAC "
+                             "at 60 % (RANSAC 0.95 at 60 %)")
     assert "->" not in c["headline"] and len(c["headline"]) < MAX_TABLE_CELL
 
 
@@ -699,7 +702,7 @@ def test_the_two_densest_cluster_configurations_have_one_name_each():
 
     labels = {v.key: v.label for v in VARIANTS}
     reading = "CLAP (densest-cluster reading)"
-    trimmed = "CLAP (paper), trimmed in the densest cluster"
+    trimmed = "CLAP (paper) + in-cluster trim"
     assert labels["clap_densest"].startswith(reading)
     assert describe_variant("vpg_lie", "clap_densest").startswith(reading)
     for key in ("trim_in_cluster", "bandwidth_half", "bandwidth_double", "min_support_half",

@@ -408,7 +408,7 @@ def test_evd_counts_the_pairs_won_where_both_fail():
         [both_lost, both_lost, ransac_right])}}})
     assert verdict == "not reproduced"
     assert (n["farther"], n["farther_both_failed"], n["closer_both_failed"]) == (3, 2, 0)
-    assert "both fail, each keeping fewer than 10% of the labelled inliers" in measured
+    assert "both fail, each keeping fewer than 10 % of the labelled inliers" in measured
     assert "on 0 of CLAP's and 2 of RANSAC's" in measured
     # both halves of the rule: the labelled inliers kept, then the distance to the truth
     assert HEADLINES["stitching_outliers"][1](n) == (
@@ -694,6 +694,12 @@ def test_a_steady_failure_is_counted_beside_the_stability_claim():
     assert numbers["homography_synthetic"]["CLAP_steadier"] == 2
     assert numbers["homography_synthetic"]["CLAP_steadier_failing"] == 1
     assert "steady failure: CLAP 1, RANSAC 0" in measured
+    # the headline and each alternative's row show the same count beside CLAP's pairs
+    from clap_unified.reproduce.claims import HEADLINES, ROW_HEADLINES
+
+    for table in (HEADLINES, ROW_HEADLINES):
+        assert ("CLAP 2 (1 of them a steady failure), RANSAC 0 of 2 (synthetic)"
+                in table["stitching_stable"][1](numbers)), table["stitching_stable"][1](numbers)
     # without an exact truth (homogr) no failure is defined and none is counted
     out = {"homography_homogr": {"data": "homogr: x", "tables": {"stability": rows}}}
     assert "steady failure" not in _judge_stability(out)[1]

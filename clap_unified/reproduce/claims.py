@@ -218,6 +218,17 @@ def wilson_lower(k: int, n: int, z: float = 1.96) -> float:
     return centre - half
 
 
+def percent(x) -> str:
+    """``x`` (a share, 0.6) as the book writes a percentage: a whole number, a space, "%".
+
+    Examples
+    --------
+    >>> percent(0.6), percent("0.80"), percent(0.125)
+    ('60 %', '80 %', '12 %')
+    """
+    return f"{100 * float(x):.0f} %"
+
+
 def _v(x) -> float:
     """A stored error or median: None (failed, or more than half failed) counts as infinite."""
     return float("inf") if x is None else float(x)
@@ -277,7 +288,7 @@ def _judge_3d_at_high_ratios(decide, what):
         if not high:
             return "data unavailable", "no outlier ratio above 50 % was run", {}
         measured = (f"share of {n[f'clap@{high[0]}']['n']} frames per ratio, {what}; "
-                    + "; ".join(f"{float(o):.0%} false: CLAP {_outcomes(a)}, RANSAC "
+                    + "; ".join(f"{percent(o)} false: CLAP {_outcomes(a)}, RANSAC "
                                 f"{_outcomes(b)}"
                                 for o, (a, b, _, _) in zip(high, comparisons, strict=True)))
         table = {f"{m}@{o}": n[f"{m}@{o}"] for m in ("clap", "ransac") for o in high}
@@ -578,7 +589,7 @@ def _judge_real(outputs):
     edge = next((f"one pair {word} would read \"{grade(k)}\"" for k, word in
                  ((similar - 1, "fewer"), (similar + 1, "more"))
                  if 0 <= k <= len(by) and grade(k) != verdict), "")
-    return verdict, (f"{len(by)} real pairs: similar on {similar} ({share:.0%}"
+    return verdict, (f"{len(by)} real pairs: similar on {similar} ({percent(share)}"
                      + (f"; on the edge of the rule: {edge}" if edge else "")
                      + f": RMS SRE on the "
                      f"matches both call inliers within {SIMILAR:g}x or {SRE_TOLERANCE_PX:g} px, "
@@ -602,13 +613,14 @@ def _judge_evd(outputs):
     recall_ok, lie_ok = more > fewer, lie["closer"] > lie["farther"]
     verdict = ("reproduced" if recall_ok and lie_ok else
                "partly reproduced" if recall_ok or lie_ok else "not reproduced")
-    return verdict, (f"EVD, {len(by)} pairs with {min(ratios):.0%}-{max(ratios):.0%} inliers: "
+    return verdict, (f"EVD, {len(by)} pairs with {100 * min(ratios):.0f}-"
+                     f"{percent(max(ratios))} inliers: "
                      f"CLAP keeps more labelled inliers on {more} {_pairs(more)}, RANSAC on "
                      f"{fewer} (by "
                      f"more than {MARGIN:g}); CLAP closer to the ground truth on "
                      f"{lie['closer']}, RANSAC on {lie['farther']} (by more than {CLOSER:g}x; "
                      f"of the pairs each is closer on, both fail, each keeping fewer than "
-                     f"{EVD_FAILED_RECALL:.0%} of the labelled inliers, on "
+                     f"{percent(EVD_FAILED_RECALL)} of the labelled inliers, on "
                      f"{lie['closer_both_failed']} of CLAP's and {lie['farther_both_failed']} "
                      f"of RANSAC's; the ground truth is fitted to labelled points, not exact)"), \
         {"recall_clap_more": more, "recall_ransac_more": fewer, **lie}
@@ -638,7 +650,7 @@ def _judge_2d(outputs):
     robust, no_worse, _, top, _ = _halves_2d(n)
     verdict = ("reproduced" if robust and no_worse else
                "partly reproduced" if robust or no_worse else "not reproduced")
-    measured = "; ".join(f"{float(r):.0%} false: CLAP {n[f'clap@{r}']['ok']:.2f}, RANSAC "
+    measured = "; ".join(f"{percent(r)} false: CLAP {n[f'clap@{r}']['ok']:.2f}, RANSAC "
                          f"{n[f'ransac@{r}']['ok']:.2f}, randomized Hough "
                          f"{n[f'randomized_hough@{r}']['ok']:.2f}"
                          for r in rates)
@@ -652,7 +664,7 @@ def _judge_symmetry(outputs):
     share = s["pose_and_mirror_tied"]
     verdict = ("reproduced" if share >= 0.8 else
                "partly reproduced" if share >= 0.5 else "not reproduced")
-    return verdict, (f"{share:.0%} of {s['frames']} frames without false detections (failed "
+    return verdict, (f"{percent(share)} of {s['frames']} frames without false detections (failed "
                      f"frames included): the two best clusters are the pose and its 180 deg "
                      f"mirror, with equal support"), s
 
@@ -868,12 +880,12 @@ VARIANT_NAMES = {
         "clap_densest": "CLAP (densest-cluster reading): first-order distance, polished alone",
         "lie_linear": "CLAP clustering by the first-order distance",
         "lie_exact": "CLAP clustering by the exact logarithm for every pair",
-        "trim_in_cluster": "CLAP (paper), trimmed in the densest cluster (no polish)",
-        "bandwidth_half": "CLAP (paper), trimmed in the densest cluster, bandwidth halved",
-        "bandwidth_double": "CLAP (paper), trimmed in the densest cluster, bandwidth doubled",
-        "min_support_half": "CLAP (paper), trimmed in the densest cluster, minimum support "
+        "trim_in_cluster": "CLAP (paper) + in-cluster trim (no polish)",
+        "bandwidth_half": "CLAP (paper) + in-cluster trim, bandwidth halved",
+        "bandwidth_double": "CLAP (paper) + in-cluster trim, bandwidth doubled",
+        "min_support_half": "CLAP (paper) + in-cluster trim, minimum support "
                             "halved",
-        "min_support_double": "CLAP (paper), trimmed in the densest cluster, minimum support "
+        "min_support_double": "CLAP (paper) + in-cluster trim, minimum support "
                               "doubled",
         "equal_budget_400": "RANSAC with CLAP's candidate count",
         "equal_budget_1000": "CLAP with RANSAC's iteration count",
@@ -926,7 +938,7 @@ def describe_variant(claim: str, variant: str) -> str:
     >>> describe_variant("3d_outliers", "bandwidth_double")
     "CLAP's bandwidth doubled"
     >>> describe_variant("stitching_stable", "bandwidth_double")
-    'CLAP (paper), trimmed in the densest cluster, bandwidth doubled'
+    'CLAP (paper) + in-cluster trim, bandwidth doubled'
     >>> describe_variant("localization3d", "budget_300")
     '300 triplets for both methods'
     """
@@ -954,7 +966,7 @@ def _at_highest_ratio(numbers, methods, what):
     shares = ", ".join(f"{m.upper() if m != 'hough' else 'Hough'} "
                        f"{numbers[f'{m}@{top}']['ok']:.2f}" for m in methods
                        if f"{m}@{top}" in numbers)
-    return f"{what} at {float(top):.0%} false: {shares}"
+    return f"{what} at {percent(top)} false: {shares}"
 
 
 def _most_wrong(numbers, what="largest share of wrong poses above 50 % false: "):
@@ -1000,20 +1012,29 @@ def _blocking_breakdowns(v, a, b) -> str:
 
 def _both_failed(v, key) -> str:
     """Beside a count of pairs one method wins (``v[key]``), how many of them are pairs where
-    both methods fail (``v[key + "_both_failed"]``, :func:`_per_pair`): "" when none.
+    both methods fail (``v[key + "_both_failed"]``, :func:`_per_pair`), or, for a count of
+    pairs where a method is steadier, how many of them it fails on every seed, a steady
+    failure (``v[key + "_failing"]``, :func:`_judge_stability`): "" when none.
 
     Examples
     --------
     >>> v = {"closer": 1, "closer_both_failed": 1, "farther": 7, "farther_both_failed": 2}
     >>> _both_failed(v, "closer"), _both_failed(v, "farther")
     (' (a pair where both fail)', ' (2 of them where both fail)')
+    >>> v = {"CLAP_steadier": 7, "CLAP_steadier_failing": 1, "RANSAC_steadier": 1,
+    ...      "RANSAC_steadier_failing": 1}
+    >>> _both_failed(v, "CLAP_steadier"), _both_failed(v, "RANSAC_steadier")
+    (' (1 of them a steady failure)', ' (a steady failure)')
     """
-    k, n = v.get(f"{key}_both_failed", 0), v[key]
-    if not k:
-        return ""
-    if k == n:
-        return " (a pair where both fail)" if n == 1 else " (all pairs where both fail)"
-    return f" ({k} of them where both fail)"
+    n = v[key]
+    for suffix, one, each, some in (
+            ("_both_failed", "a pair where both fail", "all pairs where both fail",
+             "of them where both fail"),
+            ("_failing", "a steady failure", "all steady failures", "of them a steady failure")):
+        k = v.get(f"{key}{suffix}", 0)
+        if k:
+            return f" ({one})" if k == n == 1 else f" ({each})" if k == n else f" ({k} {some})"
+    return ""
 
 
 def _pairs_per_set(numbers, a, b, what=""):
@@ -1102,7 +1123,7 @@ HEADLINES = {
                              f"truth spans a range {CLOSER:g}x narrower)")),
     "vpg_real_sre": (CLAIM_TITLES["vpg_real_sre"],
                      lambda n: f"similar on {n['similar']} of {n['pairs']} pairs "
-                               f"({n['share_similar']:.0%}"
+                               f"({percent(n['share_similar'])}"
                                + (f"; on the edge: {n['edge']}" if n.get("edge") else "")
                                + ")"),
     "stitching_outliers": (CLAIM_TITLES["stitching_outliers"],
@@ -1117,7 +1138,7 @@ HEADLINES = {
                              f"{n['pairs']}"),
     "2d_outliers": (CLAIM_TITLES["2d_outliers"], lambda n: _headline_2d(n)),
     "2d_symmetry": (CLAIM_TITLES["2d_symmetry"],
-                    lambda n: f"tied pose and mirror in {n['pose_and_mirror_tied']:.0%} of "
+                    lambda n: f"tied pose and mirror in {percent(n['pose_and_mirror_tied'])} of "
                               f"{n['frames']} frames"),
     "several_answers": (CLAIM_TITLES["several_answers"],
                         lambda n: f"mean error CLAP {n['clap_mean']:.1f} %, the OpenCV "
@@ -1228,7 +1249,7 @@ def _clap_bar_3d(numbers: dict, name: str) -> str:
     return (f"nor could a control that weakens RANSAC: the rule also asks CLAP's own share of "
             f"correct "
             f"frames to be at least 0.8 at every ratio above 50 %, and {name} is correct in "
-            f"{ok:.2f} of the frames at {float(worst):.0%} false, so with this CLAP the rule "
+            f"{ok:.2f} of the frames at {percent(worst)} false, so with this CLAP the rule "
             f"reads at best \"partly reproduced\"")
 
 
@@ -1333,8 +1354,8 @@ def _drops_2d(numbers: dict, top: str) -> str:
     >>> n = {f"clap@{r}": {"ok": k / 150, "n": 150} for r, k in counts.items()}
     >>> n["ok_by_frame"] = {f"clap@{r}": frames(k) for r, k in counts.items()}
     >>> print(_drops_2d(n, "0.60"))
-    by that test the 60% share is below the shares at 30% (0.81; on the edge: one more correct
-    frame at 60% would undo that drop) and 50% (0.89), and not below the share at 0%; every
+    by that test the 60 % share is below the shares at 30 % (0.81; on the edge: one more correct
+    frame at 60 % would undo that drop) and 50 % (0.89), and not below the share at 0 %; every
     rate has the same 150 frames (the same poses and true detections), so the shares are
     compared frame by frame
     """
@@ -1347,17 +1368,17 @@ def _drops_2d(numbers: dict, top: str) -> str:
             continue
         other = frames[f"clap@{r}"]
         if paired_differ(t, other) < 0:
-            edge = (f"; on the edge: one more correct frame at {float(top):.0%} would undo "
+            edge = (f"; on the edge: one more correct frame at {percent(top)} would undo "
                     f"that drop" if paired_on_edge(t, other) else "")
-            below.append(f"{float(r):.0%} ({numbers[f'clap@{r}']['ok']:.2f}{edge})")
+            below.append(f"{percent(r)} ({numbers[f'clap@{r}']['ok']:.2f}{edge})")
         else:
-            level.append(f"{float(r):.0%}")
+            level.append(f"{percent(r)}")
 
     def listed(items):
         return items[0] if len(items) == 1 else ", ".join(items[:-1]) + " and " + items[-1]
 
     shares = "share" if len(below) == 1 else "shares"
-    text = f"by that test the {float(top):.0%} share is below the {shares} at {listed(below)}"
+    text = f"by that test the {percent(top)} share is below the {shares} at {listed(below)}"
     if level:
         text += f", and not below the share{'s' * (len(level) > 1)} at {listed(level)}"
     return (text + f"; every rate has the same {len(t)} frames (the same poses and true "
@@ -1376,26 +1397,24 @@ def _headline_2d(numbers: dict) -> str:
     >>> n = {f"{m}@{r}": {"ok": round(k / 150, 2), "n": 150} for m, r, k in counts}
     >>> n["ok_by_frame"] = {f"{m}@{r}": "1" * k + "0" * (150 - k) for m, r, k in counts}
     >>> print(_headline_2d(n))
-    correct: CLAP 0.89 at 50% false -> 0.76 at 60%; nowhere below RANSAC (0.71 at 60%)
+    correct: CLAP 0.89 at 50 % false -> 0.76 at 60 %; nowhere below RANSAC (0.71 at 60 %)
     """
     robust, no_worse, best, top, behind = _halves_2d(numbers)
 
     def ok(m, r):
         return numbers[f"{m}@{r}"]["ok"]
 
-    def pct(r):
-        return f"{float(r):.0%}"
-
     top_ok, best_ok = f"{ok('clap', top):.2f}", f"{ok('clap', best):.2f}"
-    first = (f"correct: CLAP {best_ok} at {pct(best)} false -> {top_ok} at {pct(top)}"
-             if not robust else f"correct: CLAP {top_ok} at {pct(top)} false, no fall"
+    first = (f"correct: CLAP {best_ok} at {percent(best)} false -> {top_ok} at {percent(top)}"
+             if not robust else f"correct: CLAP {top_ok} at {percent(top)} false, no fall"
              if top_ok == best_ok else
-             f"correct: CLAP {top_ok} at {pct(top)} false, its best {best_ok} at {pct(best)}")
+             f"correct: CLAP {top_ok} at {percent(top)} false, its best {best_ok} at "
+             f"{percent(best)}")
     if no_worse:
-        return f"{first}; nowhere below RANSAC ({ok('ransac', top):.2f} at {pct(top)})"
+        return f"{first}; nowhere below RANSAC ({ok('ransac', top):.2f} at {percent(top)})"
     r = behind[-1]
-    return (f"{first}; below RANSAC at {', '.join(pct(x) for x in behind)} (RANSAC "
-            f"{ok('ransac', r):.2f} at {pct(r)})")
+    return (f"{first}; below RANSAC at {', '.join(percent(x) for x in behind)} (RANSAC "
+            f"{ok('ransac', r):.2f} at {percent(r)})")
 
 
 def _explain_2d(numbers: dict, outputs: dict | None = None) -> str:
@@ -1406,16 +1425,16 @@ def _explain_2d(numbers: dict, outputs: dict | None = None) -> str:
         return numbers[f"clap@{r}"]["ok"]
 
     first = (f"CLAP's share of correct frames at the highest false-detection rate "
-             f"({ok(top):.2f} at {float(top):.0%}) is not below its best ({ok(best):.2f} at "
-             f"{float(best):.0%}), so the first half holds" if robust else
+             f"({ok(top):.2f} at {percent(top)}) is not below its best ({ok(best):.2f} at "
+             f"{percent(best)}), so the first half holds" if robust else
              f"CLAP's share of correct frames falls from its best, {ok(best):.2f} at "
-             f"{float(best):.0%} false detections, to {ok(top):.2f} at {float(top):.0%}, a "
+             f"{percent(best)} false detections, to {ok(top):.2f} at {percent(top)}, a "
              f"drop beyond the paired test, so the first half (no fall as false "
              f"detections grow) fails")
     if not robust:
         first += "; " + _drops_2d(numbers, top)
     second = ("CLAP is below RANSAC at no rate, so the second half holds" if no_worse else
-              "CLAP is below RANSAC at " + ", ".join(f"{float(r):.0%}" for r in behind)
+              "CLAP is below RANSAC at " + ", ".join(f"{percent(r)}" for r in behind)
               + ", so the second half fails")
     return f"{first}; {second}."
 
@@ -1440,7 +1459,7 @@ def _explain_3d_spurious(numbers: dict, outputs: dict | None = None) -> str:
     RANSAC 0.00): the protocol's gate keeps only candidates near a guess close to the truth,
     so this protocol cannot show the claim's second half (RANSAC converging to spurious
     solutions), and the verdict rests on the first half, which fails: CLAP is correct in 0.76
-    of the frames at 80% false (RANSAC 0.89), below 0.8 and below RANSAC by that test. Wrong
+    of the frames at 80 % false (RANSAC 0.89), below 0.8 and below RANSAC by that test. Wrong
     poses other than the mirror image occur only in these variants: a front end (largest
     share: CLAP (that row) 0.01, RANSAC 0.05; the two-proportion test does not tell them
     apart).
@@ -1467,7 +1486,7 @@ def _explain_3d_spurious(numbers: dict, outputs: dict | None = None) -> str:
     first = ("which holds: CLAP is correct in at least 0.8 of the frames at every ratio and "
              "nowhere below RANSAC" if consistent else
              f"which fails: CLAP is correct in {a['ok']:.2f} of the frames at "
-             f"{float(o):.0%} false (RANSAC {b['ok']:.2f}), {why}")
+             f"{percent(o)} false (RANSAC {b['ok']:.2f}), {why}")
     text = ("neither method returns a wrong pose at any ratio above 50 % (largest share: "
             "CLAP 0.00, RANSAC 0.00): the protocol's gate keeps only candidates near a guess "
             "close to the truth, so this protocol cannot show the claim's second half (RANSAC "

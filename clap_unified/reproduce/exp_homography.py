@@ -45,6 +45,7 @@ import numpy as np
 
 from ..spaces.homography import DEFAULT_THRESHOLD
 from ..viz.stitching import HOMOGRAPHY_STYLE
+from .claims import percent
 from .progress import progress
 from .registry import experiment, finite_or_none
 
@@ -84,7 +85,7 @@ DEVIATIONS = [
               "by discarding outliers based on fractional trimming",
      "here": "over all 400 candidates: their medoid, then 5 rounds each keeping the 80 % "
              "nearest the current medoid and taking their medoid (`neighbourhood='all'`); "
-             "an alternative, CLAP (paper) trimmed in the densest cluster, trims inside the "
+             "an alternative, CLAP (paper) + in-cluster trim, trims inside the "
              "densest cluster instead (the paper's distance, no polish)",
      "why": "unspecified in the paper: the centre (the medoid, the first centre the paper "
             "lists) and what is trimmed (the words name no neighbourhood or bandwidth, so "
@@ -142,23 +143,23 @@ VARIANTS = (
     Variant("lie_exact", "CLAP clusters by the exact logarithm for every pair of candidates "
             "(no first-order value for far pairs)", "sensitivity", {"screen": np.inf},
             costly=True),
-    Variant("trim_in_cluster", "CLAP (paper), trimmed in the densest cluster: the paper's "
+    Variant("trim_in_cluster", "CLAP (paper) + in-cluster trim: the paper's "
             "distance and no polish, trimming inside the cluster seeded where the most "
             "candidates lie within a bandwidth (the 2 % quantile of the 4-NN distances; at "
             "least 3 members) instead of over all candidates", "sensitivity", _TRIM_IN_CLUSTER),
-    Variant("bandwidth_half", "CLAP (paper), trimmed in the densest cluster, with the "
+    Variant("bandwidth_half", "CLAP (paper) + in-cluster trim, with the "
             "bandwidth quantile halved (1 %; the "
             "primary, over all candidates, has no bandwidth)", "sensitivity",
             {**_TRIM_IN_CLUSTER, "bandwidth_quantile": 0.01}),
-    Variant("bandwidth_double", "CLAP (paper), trimmed in the densest cluster, with the "
+    Variant("bandwidth_double", "CLAP (paper) + in-cluster trim, with the "
             "bandwidth quantile doubled (4 %; the "
             "primary, over all candidates, has no bandwidth)", "sensitivity",
             {**_TRIM_IN_CLUSTER, "bandwidth_quantile": 0.04}),
-    Variant("min_support_half", "CLAP (paper), trimmed in the densest cluster, with the "
+    Variant("min_support_half", "CLAP (paper) + in-cluster trim, with the "
             "minimum support of a cluster lowered "
             "from 3 to 2 candidates (the primary, over all candidates, has none)", "sensitivity",
             {**_TRIM_IN_CLUSTER, "min_support": 2}),
-    Variant("min_support_double", "CLAP (paper), trimmed in the densest cluster, with the "
+    Variant("min_support_double", "CLAP (paper) + in-cluster trim, with the "
             "minimum support of a cluster raised "
             "from 3 to 6 candidates (the primary, over all candidates, has none)", "sensitivity",
             {**_TRIM_IN_CLUSTER, "min_support": 6}),
@@ -577,7 +578,7 @@ def figures_evd(output: dict) -> dict:
         ax.bar(np.arange(len(pairs)) + (j - (len(labels) - 1) / 2) * w, v, w,
                color=COLORS.get(m), label=m)
     ratio = [next(r["inlier_ratio"] for r in rows if r["pair"] == p) for p in pairs]
-    ax.set_xticks(np.arange(len(pairs)), [f"{p}\n{q:.0%}" for p, q in zip(pairs, ratio,
+    ax.set_xticks(np.arange(len(pairs)), [f"{p}\n{percent(q)}" for p, q in zip(pairs, ratio,
                                                                           strict=True)],
                   fontsize=7)
     ax.set_ylabel("labelled inliers kept")

@@ -22,6 +22,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..presets import get_preset
+from .claims import percent
 from .progress import progress
 from .registry import experiment, finite_or_none
 
@@ -423,7 +424,7 @@ def figures_localization3d(output: dict) -> dict:
                               fontsize=8)
             x = output["numbers"][f"{method}@{o:.2f}"]
             counts.append(f"{method.upper()} wrong {x['wrong']:.2f}, none {x['none']:.2f}")
-        axes[0, j].set_title(f"{o:.0%} false\n" + "\n".join(counts), fontsize=7)
+        axes[0, j].set_title(f"{percent(o)} false\n" + "\n".join(counts), fontsize=7)
     for k in (0, 1):
         axes[k, 0].set_ylabel("fraction of frames", fontsize=8)
     axes[0, 0].legend(fontsize=7)
@@ -483,7 +484,7 @@ def _frames_2d(field, space, params, seed, rates, label):
     per_rate = frames_at_rates(field, params["frames"], rates,
                                rng=np.random.default_rng([seed, 1]))
     for i, (rate, frames) in enumerate(zip(rates, per_rate, strict=True)):
-        for k, obs in enumerate(progress(frames, f"{label} {rate:.0%}")):
+        for k, obs in enumerate(progress(frames, f"{label} {percent(rate)}")):
             yield i, rate, k, obs, enumerate_hypotheses(space, obs.input.data)
 
 

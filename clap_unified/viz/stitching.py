@@ -26,7 +26,7 @@ HOMOGRAPHY_STYLE = {
     "CLAP (paper) + polish": {"color": "#777777", "marker": "+"},
     # the performance chapter's methods: the library's default CLAP is "CLAP" above
     "CLAP + quality": {"color": "#56B4E9", "marker": "v"},
-    "CLAP (densest)": {"color": "#777777", "marker": "X"},
+    "CLAP (densest-cluster reading)": {"color": "#777777", "marker": "X"},
     "cv2.USAC_ACCURATE": {"color": "#D55E00", "marker": "d"},
     "PoseLib": {"color": "#0072B2", "marker": "p"},
     "COLMAP": {"color": "#000000", "marker": "*"},
