@@ -107,6 +107,7 @@ def clap_table(markdown: str) -> dict[str, set[int]]:
     section = markdown.split("(which-clap)=", 1)[1].split("\n## ", 2)[1]
     rows = {}
     for line in section.splitlines():
+        line = re.sub(r"\{term\}`([^`<]*?)(?: <[^>]*>)?`", r"\1", line)  # a term as its name
         cells = [c.strip() for c in line.strip().strip("|").split("|")]
         if not line.startswith("| CLAP") or len(cells) < 3:
             continue
@@ -149,7 +150,7 @@ def test_the_front_page_lists_every_configuration_the_chapters_name():
     assert not unlisted, unlisted
     assert "CLAP (paper) + in-cluster trim" in table
     library_rows = [line for line in (BOOK / "intro.md").read_text().splitlines()
-                    if line.startswith("| CLAP (the library's)")]
+                    if re.match(r"\| (?:\{term\}`)?CLAP \(the library's\)", line)]
     assert len(library_rows) == 4  # lines, point clouds, homographies, several structures
 
 
