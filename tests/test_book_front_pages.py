@@ -101,22 +101,63 @@ def chapters_labelling_library_clap() -> set[int]:
     return found
 
 
-def clap_table(markdown: str) -> dict[str, set[int]]:
-    """The front page's table "Which CLAP is which": ``{name: chapters}``, a name that has
-    several rows (one per problem) with the union of their chapters."""
+def clap_rows(markdown: str) -> dict[str, set[int]]:
+    """The rows of the front page's table "Which CLAP is which": ``{first cell: chapters}``."""
     section = markdown.split("(which-clap)=", 1)[1].split("\n## ", 2)[1]
     rows = {}
     for line in section.splitlines():
         line = re.sub(r"\{term\}`([^`<]*?)(?: <[^>]*>)?`", r"\1", line)  # a term as its name
         cells = [c.strip() for c in line.strip().strip("|").split("|")]
-        if not line.startswith("| CLAP") or len(cells) < 3:
-            continue
-        name = re.match(r"CLAP \([^)]*\)(?: \+ [\w-]+(?: [\w-]+)*)?", cells[0]).group(0)
-        chapters = set()
-        for a, b in re.findall(r"(\d+)(?: to (\d+))?", cells[2]):
-            chapters |= set(range(int(a), int(b or a) + 1))
-        rows.setdefault(name, set()).update(chapters)
+        if line.startswith("| CLAP") and len(cells) >= 3:
+            rows[cells[0]] = {int(n) for n in re.findall(r"\d+", cells[2])}
     return rows
+
+
+def clap_table(markdown: str) -> dict[str, set[int]]:
+    """The table by name: ``{name: chapters}``, a name that has several rows (one per problem)
+    with the union of their chapters."""
+    table = {}
+    for first, chapters in clap_rows(markdown).items():
+        name = re.match(r"CLAP \([^)]*\)(?: \+ [\w-]+(?: [\w-]+)*)?", first).group(0)
+        table.setdefault(name, set()).update(chapters)
+    return table
+
+
+#: What each of the library's rows runs, as a chapter's code calls it: a chapter the row names
+#: must call it; where the call is the row's alone (``only``), a chapter that calls it must be
+#: named.
+LIBRARY_CALLS = {
+    "on lines and curves": (r"fit_line\(|LineSpace|CircleSpace|EllipseSpace", r"fit_line\("),
+    "on point clouds": (r"align_correspondences\(", r"align_correspondences\("),
+    "for homographies": (r"estimate_homography\(", None),
+    "for several structures": (r"\bsegment(?:_matches)?\(", r"\bsegment(?:_matches)?\("),
+}
+
+
+def chapters_calling(pattern: str) -> set[int]:
+    found = set()
+    for number, stem in enumerate(_chapter_order(), start=1):
+        nb = json.loads((BOOK / "chapters" / f"{stem}.ipynb").read_text(encoding="utf-8"))
+        code = "\n".join("".join(c["source"]) for c in nb["cells"] if c["cell_type"] == "code")
+        if re.search(pattern, code):
+            found.add(number)
+    return found
+
+
+def library_row_defects(rows: dict[str, set[int]]) -> list[str]:
+    """A library row naming a chapter that does not run it, or missing one that does."""
+    defects = []
+    for problem, (calls, only) in LIBRARY_CALLS.items():
+        listed = rows.get(f"CLAP (the library's), {problem}")
+        if listed is None:
+            defects.append(f"no row for the library's CLAP {problem}")
+            continue
+        defects += [f"{problem}: chapter {n} does not call it"
+                    for n in sorted(listed - chapters_calling(calls))]
+        if only:
+            defects += [f"{problem}: chapter {n} runs it, not named"
+                        for n in sorted(chapters_calling(only) - listed)]
+    return defects
 
 
 #: Names a table gives CLAP that are not configurations: a claims block's row of variants.
@@ -138,8 +179,10 @@ def test_front_page_names_every_chapter_that_runs_the_library_s_clap():
     """The front page said only chapters 7 and 8 measure CLAP (the library's), while chapters
     1, 2, 4 (point clouds) and 9 run it too; then it named one configuration where the book
     runs four (the thirteenth read)."""
-    table = clap_table((BOOK / "intro.md").read_text(encoding="utf-8"))
+    markdown = (BOOK / "intro.md").read_text(encoding="utf-8")
+    table = clap_table(markdown)
     assert table.get("CLAP (the library's)") == chapters_labelling_library_clap(), table
+    assert not library_row_defects(clap_rows(markdown)), library_row_defects(clap_rows(markdown))
 
 
 def test_the_front_page_lists_every_configuration_the_chapters_name():
@@ -171,8 +214,18 @@ def test_the_decision_guide_is_not_numbered_as_a_chapter():
 
 def test_the_front_page_checks_catch_the_old_text():
     old = ("(which-clap)=\n## Which CLAP is which\n\n| name | what runs | chapters | answer |\n"
-           "|---|---|---|---|\n| CLAP (the library's) | `clap` | 7, 8 | the score |\n")
-    assert clap_table(old) == {"CLAP (the library's)": {7, 8}}
+           "|---|---|---|---|\n| CLAP (the library's), on lines | `clap` | chapters 1, 2 and 9 "
+           "| density |\n| CLAP (the library's), on point clouds | x | chapter 4 | density |\n"
+           "| CLAP (the library's), for homographies | x | chapters 8 and 9 | data |\n"
+           "| CLAP (the library's), for several structures | x | chapters 7 and 9 | data |\n")
+    assert clap_table(old) == {"CLAP (the library's)": {1, 2, 4, 7, 8, 9}}
+    defects = library_row_defects(clap_rows(old))
+    assert "no row for the library's CLAP on lines and curves" in defects
+    old = old.replace("on lines |", "on lines and curves |")
+    assert library_row_defects(clap_rows(old)) == [
+        "on lines and curves: chapter 8 runs it, not named",
+        "on point clouds: chapter 8 runs it, not named",
+        "for several structures: chapter 9 does not call it"]
     assert chapters_labelling_library_clap() >= {1, 2, 4, 7, 8, 9}
 
 

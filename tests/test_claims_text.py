@@ -712,3 +712,23 @@ def test_the_two_densest_cluster_configurations_have_one_name_each():
         assert reading not in labels[key]
     densest = [p for p in PRESETS.values() if p.name == "densest"]
     assert densest and all("densest-cluster reading" in p.label + p.summary for p in densest)
+
+
+def test_the_claims_blocks_the_chapters_show_write_percentages_as_the_chapters_do():
+    """The claims printed "60%" where the chapters print "60 %" (the thirteenth read); every
+    claim's block, as each chapter's saved output shows it, is checked outside the paper's
+    quotes."""
+    import json
+    from pathlib import Path
+
+    blocks = []
+    for path in sorted((Path(__file__).resolve().parents[1] / "book" / "chapters").glob("*.ipynb")):
+        for cell in json.loads(path.read_text(encoding="utf-8"))["cells"]:
+            for out in cell.get("outputs", []):
+                text = "".join(out.get("data", {}).get("text/markdown", ""))
+                if "*The paper:*" in text:
+                    blocks.append((path.name, text))
+    assert len(blocks) >= 5  # chapters 3, 4, 5, 6 and 7 show their claims
+    for name, text in blocks:
+        ours = re.sub(r'"[^"\n]*"', "", text)  # the paper's words keep their own spelling
+        assert not re.search(r"\d%", ours), (name, re.findall(r".{40}\d%.{10}", ours))

@@ -144,9 +144,9 @@ def estimate_homography(matches, method: str = "clap", *, rng=None, quality=None
         (e.g. ``neighbourhood``, ``bandwidth_quantile``, ``centre``,
         ``cell_size``, ``confidence``). With ``"clap_paper"``,
         ``neighbourhood="bandwidth"`` trims inside the densest cluster instead
-        (bandwidth from ``bandwidth_quantile``): CLAP (paper), trimmed in the
-        densest cluster, which keeps the paper's distance and has no polish,
-        unlike ``"clap_densest"``.
+        (bandwidth from ``bandwidth_quantile``): CLAP (paper) + in-cluster
+        trim, which keeps the paper's distance and has no polish, unlike
+        ``"clap_densest"``.
 
     Returns
     -------

@@ -85,8 +85,8 @@ DEVIATIONS = [
               "by discarding outliers based on fractional trimming",
      "here": "over all 400 candidates: their medoid, then 5 rounds each keeping the 80 % "
              "nearest the current medoid and taking their medoid (`neighbourhood='all'`); "
-             "an alternative, CLAP (paper) + in-cluster trim, trims inside the "
-             "densest cluster instead (the paper's distance, no polish)",
+             "an alternative, CLAP (paper) + in-cluster trim, does this trimming inside "
+             "the densest cluster instead (the paper's distance, no polish)",
      "why": "unspecified in the paper: the centre (the medoid, the first centre the paper "
             "lists) and what is trimmed (the words name no neighbourhood or bandwidth, so "
             "all candidates)"},
