@@ -700,6 +700,14 @@ def test_a_steady_failure_is_counted_beside_the_stability_claim():
     for table in (HEADLINES, ROW_HEADLINES):
         assert ("CLAP 2 (1 of them a steady failure), RANSAC 0 of 2 (synthetic)"
                 in table["stitching_stable"][1](numbers)), table["stitching_stable"][1](numbers)
-    # without an exact truth (homogr) no failure is defined and none is counted
+    assert "fails on every seed (corner error above 5 px)" in measured
+    # without an exact truth and without validation points no failure is defined
     out = {"homography_homogr": {"data": "homogr: x", "tables": {"stability": rows}}}
     assert "steady failure" not in _judge_stability(out)[1]
+    # on homogr a run fails by its validation points' error (chapter 5's rule), as ExtremeZoom
+    # did on every seed while CLAP counted as the steadier there
+    for r in rows:
+        r["validation_px"] = 400.0 if r["corner_px"] == 40.0 else 2.0
+    verdict, measured, numbers = _judge_stability(out)
+    assert numbers["homography_homogr"]["CLAP_steadier_failing"] == 1
+    assert "fails on every seed (validation error above 10 px)" in measured

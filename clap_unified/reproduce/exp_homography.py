@@ -330,7 +330,8 @@ def _lie_runs(pairs, seed: int, desc: str, name: str, params: dict, size=None, i
                     r = run(k, pm, j, m, variant)
                     stability.append({"pair": pm.name, "scene": pm.scene, "method": m,
                                       "seed_index": j, "lie": finite_or_none(r["lie"]),
-                                      "corner_px": finite_or_none(r["corner"])})
+                                      "corner_px": finite_or_none(r["corner"]),
+                                      "validation_px": finite_or_none(r["validation"])})
         return rows, stability
 
     def n_seeds(variant):

@@ -228,7 +228,8 @@ def run_multimodel(params: dict, seed: int) -> dict:
                                   "sequences": p.get("n_sequences")} for p in published_f},
                    "sequences": len({r["sequence"] for r in fundamental})}}
     variants = {"library_clap": {
-        "label": "the library's multi-model CLAP (local samples, refined hypotheses grouped by "
+        "label": "CLAP (the library's) for several structures (local samples, refined "
+                 "hypotheses grouped by "
                  "their inliers, a label cost that picks the models) as CLAP", "kind": "extension",
         "numbers": {**numbers, "methods": {**numbers["methods"],
                                            "clap_paper": numbers["methods"]["clap"]}}}}

@@ -36,6 +36,7 @@ from .claims import (
     alternatives_count,
     alternatives_text,
     claim_block,
+    describe_variant,
     evaluate_claims,
     keep_units,
 )
@@ -460,31 +461,45 @@ def _controls_cell(controls) -> str:
 def verdicts_markdown(claims) -> str:
     """A short table of the verdicts: on the paper's protocol, how many alternatives reach
     another verdict (:func:`~clap_unified.reproduce.alternatives_text`, counted as every page
-    counts them, and which verdicts), and the controls' verdicts, each marked when it did
-    not reach the other verdict. The decision guide shows it.
+    counts them, and which verdicts, naming them when there are one or two, so that an
+    unequal one is seen as such), and the controls' verdicts, each marked when it did not
+    reach the other verdict. The decision guide shows it.
 
     Examples
     --------
     >>> claim = {"key": "k", "title": "CLAP wins", "verdict": "reproduced", "depends_on": [],
-    ...          "sensitivity": [{"verdict": "reproduced"}, {"verdict": "not reproduced"}],
+    ...          "sensitivity": [{"verdict": "reproduced"},
+    ...                          {"verdict": "not reproduced", "label": "ten iterations: x"}],
     ...          "controls": [{"verdict": "not reproduced", "reaches": "yes"}]}
     >>> header, _, row = verdicts_markdown([claim]).splitlines()
     >>> print(header)
     | claim | on the paper's protocol | alternatives | controls |
     >>> print(row.split(" | ")[2])
     1 of 2 alternatives, all of them readings of the protocol, reaches another verdict: 1 not
-    reproduced
+    reproduced (ten iterations)
     """
     lines = ["| claim | on the paper's protocol | alternatives | controls |",
              "|---|---|---|---|"]
     for c in claims:
         alt = c.get("sensitivity", [])
-        flips = [r["verdict"] for r in alt if _differs(r, c["verdict"])]
+        moved = [r for r in alt if _differs(r, c["verdict"])]
+        flips = [r["verdict"] for r in moved]
         changed = alternatives_text(c) + (": " + ", ".join(
             f"{flips.count(v)} {v}" for v in dict.fromkeys(flips)) if flips else "")
+        if 0 < len(moved) <= 2:  # few: say which, so an unequal one is seen as such
+            changed += " (" + "; ".join(_variant_words(c, r) for r in moved) + ")"
         lines.append(_row([c.get("title") or c["key"], f"**{c['verdict']}**", changed,
                            _controls_cell(c.get("controls", []))]))
     return "\n".join(lines) + "\n"
+
+
+def _variant_words(claim: dict, row: dict) -> str:
+    """An alternative in a few words (:func:`~clap_unified.reproduce.describe_variant`), or
+    the start of its label when its claim or key is not a registered one."""
+    try:
+        return describe_variant(claim["key"], row["key"])
+    except (KeyError, ValueError):
+        return str(row.get("change") or row.get("label") or row.get("key", "?")).split(":")[0]
 
 
 def _write_report(out: Path, outputs: dict, claims: list, quick: bool) -> None:
