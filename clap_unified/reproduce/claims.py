@@ -587,16 +587,43 @@ def _judge_stability(outputs):
     return _over_homography_sets(outputs, steadier)
 
 
-def _judge_real(outputs):
-    by = _by_pair(outputs["stitching_real"]["tables"]["sre"])
-    similar = 0
-    for d in by.values():
+def real_pair_verdicts(rows) -> dict:
+    """Per real panorama pair, how CLAP and RANSAC compare under the claim "similar accuracy":
+    ``{pair: {"similar", "close_sre", "ratio_gap", "sre"}}`` where ``close_sre`` says that
+    their RMS errors on the matches both call inliers are within :data:`SIMILAR` times or
+    :data:`SRE_TOLERANCE_PX`, ``ratio_gap`` is CLAP's inlier ratio minus RANSAC's (similar
+    when within :data:`MARGIN`), and ``sre`` the two errors (CLAP, RANSAC).
+
+    Parameters
+    ----------
+    rows : list of dict
+        The ``sre`` table of the ``stitching_real`` experiment (one row per pair and method).
+
+    Examples
+    --------
+    >>> rows = [{"pair": "a", "method": "CLAP", "sre_common_px": 0.41, "inlier_ratio": 0.77},
+    ...         {"pair": "a", "method": "RANSAC", "sre_common_px": 1.04, "inlier_ratio": 0.77}]
+    >>> v = real_pair_verdicts(rows)["a"]
+    >>> v["similar"], v["close_sre"], v["ratio_gap"]
+    (False, False, 0.0)
+    """
+    out = {}
+    for pair, d in _by_pair(rows).items():
         c, r = d["CLAP"], d["RANSAC"]
         ec, er = _v(c["sre_common_px"]), _v(r["sre_common_px"])
-        close_sre = (math.isfinite(ec) and math.isfinite(er)
-                     and (abs(ec - er) <= SRE_TOLERANCE_PX
-                          or 1 / SIMILAR <= ec / max(er, 1e-12) <= SIMILAR))
-        similar += close_sre and abs(c["inlier_ratio"] - r["inlier_ratio"]) <= MARGIN
+        close_sre = bool(math.isfinite(ec) and math.isfinite(er)
+                         and (abs(ec - er) <= SRE_TOLERANCE_PX
+                              or 1 / SIMILAR <= ec / max(er, 1e-12) <= SIMILAR))
+        gap = float(c["inlier_ratio"]) - float(r["inlier_ratio"])
+        out[pair] = {"similar": close_sre and abs(gap) <= MARGIN, "close_sre": close_sre,
+                     "ratio_gap": gap, "sre": (ec, er)}
+    return out
+
+
+def _judge_real(outputs):
+    verdicts = real_pair_verdicts(outputs["stitching_real"]["tables"]["sre"])
+    by = verdicts
+    similar = sum(v["similar"] for v in verdicts.values())
     share = similar / len(by) if by else 0.0
     n = outputs["stitching_real"]["numbers"]
 

@@ -560,7 +560,7 @@ def run_homography_evd(params: dict, seed: int) -> dict:
                               "no data set named",
                      "here": "EVD, 15 extreme-view pairs with 2-51 % labelled inliers; 'CLAP "
                              "ordered' (samples drawn progressively by SIFT ratio) is an "
-                             "extension, in the primary table only",
+                             "extension, in chapter 5's primary table only",
                      "why": "unspecified in the paper"}], artifacts=False)
 
 
