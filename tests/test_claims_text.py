@@ -578,7 +578,7 @@ def test_a_protocol_without_wrong_poses_says_it_cannot_test_the_spurious_half():
     outputs["localization3d"]["variants"]["far"] = {"label": "a front end", "kind": "extension",
                                                     "numbers": far}
     claim = _claim(evaluate_claims(outputs), "3d_spurious")
-    assert "a front end (largest share: CLAP (that row) 0.00, RANSAC 0.05" in claim["explanation"]
+    assert "a front end (largest share: CLAP (this row) 0.00, RANSAC 0.05" in claim["explanation"]
     # with wrong poses on the protocol itself, the shares are the headline and no excuse is made
     outputs["localization3d"]["numbers"] = far
     claim = _claim(evaluate_claims(outputs), "3d_spurious")

@@ -350,11 +350,13 @@ def _fewer_spurious(comparisons) -> str:
 
 
 _judge_3d = _judge_3d_at_high_ratios(
-    _outperforms, "correct (within 5 cm and 1 deg) / wrong pose (beyond 0.5 m or 5 deg) / no pose "
-                  "(the rest, a coarse pose between the two bars)")
+    _outperforms, "correct (within 5 cm and 1 deg) / wrong pose (beyond 0.5 m or 5 deg) / no pose, "
+                  "in that order; the rest of each method's frames got a coarse pose, between "
+                  "the two bars")
 _judge_3d_spurious = _judge_3d_at_high_ratios(
-    _fewer_spurious, "correct / wrong pose / no pose (a frame without a pose is not a wrong pose; "
-                     "the rest, a coarse pose between the two bars)")
+    _fewer_spurious, "correct / wrong pose / no pose, in that order (a frame without a pose is "
+                     "not a wrong pose); the rest of each method's frames got a coarse pose, "
+                     "between the two bars")
 
 
 def _by_pair(rows) -> dict:
@@ -924,7 +926,8 @@ VARIANT_NAMES = {
     "homography": {
         "polish_both": "both methods polished (reweighted DLT)",
         "polish_clap_only": "CLAP alone polished (reweighted DLT)",
-        "clap_densest": "CLAP (densest-cluster reading): first-order distance, polished alone",
+        "clap_densest": "CLAP (densest-cluster reading): first-order distance, CLAP polished, "
+                        "RANSAC not",
         "lie_linear": "CLAP clustering by the first-order distance",
         "lie_exact": "CLAP clustering by the exact logarithm for every pair",
         "trim_in_cluster": "CLAP (paper) + in-cluster trim (no polish)",
@@ -1508,7 +1511,7 @@ def _explain_3d_spurious(numbers: dict, outputs: dict | None = None) -> str:
     solutions), and the verdict rests on the first half, which fails: CLAP is correct in 0.76
     of the frames at 80 % false (RANSAC 0.89), below 0.8 and below RANSAC by that test. Wrong
     poses other than the mirror image occur only in these variants: a front end (largest
-    share: CLAP (that row) 0.01, RANSAC 0.05; the two-proportion test does not tell them
+    share: CLAP (this row) 0.01, RANSAC 0.05; the two-proportion test does not tell them
     apart).
     """
     high = _high_ratios(numbers)
@@ -1551,7 +1554,7 @@ def _explain_3d_spurious(numbers: dict, outputs: dict | None = None) -> str:
                 n[f"clap@{_high_ratios(n)[0]}"]["n"]) == 0 else
                 "more for RANSAC by the two-proportion test" if r > c else
                 "more for CLAP by the two-proportion test")
-            far.append(f"{v['label']} (largest share: CLAP (that row) {c:.2f}, RANSAC {r:.2f}; "
+            far.append(f"{v['label']} (largest share: CLAP (this row) {c:.2f}, RANSAC {r:.2f}; "
                        f"{tell})")
     if far:
         text += (" Wrong poses other than the mirror image occur only in these variants: "
