@@ -105,7 +105,8 @@ def fit(space, data, method: str = "clap", *, n_hypotheses: int | None = None,
         ceil(ALL_INLIER_SAMPLES / w**min_samples))`` hypotheses are drawn
         (the same generator, continued) and fitted again, and the estimate
         with more inliers is returned (``diagnostics["adaptive_hypotheses"]``:
-        the second budget, or ``n_hypotheses`` when one fit was enough). The
+        the second budget, or ``n_hypotheses`` when one fit was enough;
+        ``diagnostics["first_inlier_ratio"]``: ``w``, which sized it). The
         counterpart of RANSAC's adaptive stopping for a strategy that needs
         several right hypotheses, not one. Default the preset's (raised to
         ``n_hypotheses`` when that is larger; none with ``hypotheses``), else
@@ -279,6 +280,7 @@ def _fit_adaptive(problem, method, strategy, n_hypotheses, max_hypotheses, rng, 
         if second.success and (not first.success or second.n_inliers > first.n_inliers):
             best = second
     return best.replace(diagnostics={"adaptive_hypotheses": max(need, n_hypotheses),
+                                     "first_inlier_ratio": w,
                                      "seconds": time.perf_counter() - t0})
 
 

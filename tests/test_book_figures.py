@@ -533,3 +533,25 @@ def test_a_pose_marker_off_the_field_widens_the_view_instead_of_being_cut():
     assert ax.get_ylim()[1] > y1 + 0.8 and ax.get_ylim()[0] == y0
     assert ax.get_xlim() == (x0, x1)                           # never narrowed, nor widened
     plt.close(fig)
+
+
+def test_a_method_colour_marks_only_that_method():
+    """Figure 2.1 promises each method's colour throughout the book: the truth and CLAP's
+    second cluster get colours no method has, CLAP's first (or true) cluster CLAP's own, and
+    the field figures of chapters 1, 3 and 4 take them from ``clap_unified.viz`` instead of
+    the colour cycle (``"C1"`` is RANSAC's vermilion)."""
+    import matplotlib.colors as mcolors
+
+    from clap_unified.viz import CLUSTER_COLOURS, METHOD_STYLE, TRUTH_COLOUR
+    from clap_unified.viz.stitching import HOMOGRAPHY_STYLE
+
+    methods = {mcolors.to_hex(s["color"])
+               for s in [*METHOD_STYLE.values(), *HOMOGRAPHY_STYLE.values()]}
+    assert CLUSTER_COLOURS[0] == METHOD_STYLE["clap"]["color"]
+    for colour in (TRUTH_COLOUR, *CLUSTER_COLOURS[1:]):
+        assert mcolors.to_hex(colour) not in methods, colour
+    for name in ("01_one_abstraction", "03_localization_2d", "04_localization_3d"):
+        cells = json.loads((BOOK / f"{name}.ipynb").read_text())["cells"]
+        code = "\n".join("".join(c["source"]) for c in cells if c["cell_type"] == "code")
+        assert not re.search(r"""colou?rs?=\[?["']C\d["']""", code), name
+        assert not re.search(r"#D55E00", code), name  # RANSAC's colour, for no other thing

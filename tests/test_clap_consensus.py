@@ -1,11 +1,14 @@
 """The library's default CLAP for homographies: anchor-transfer distance, k-d tree density,
 seeds by k-th neighbour distance, clusters chosen by consensus (issue 14)."""
 
+import math
+
 import numpy as np
 import pytest
 
 from clap_unified import fit
 from clap_unified.clap.density import EmbeddedNeighbours, auto_bandwidth, knn_distance
+from clap_unified.fitting import ALL_INLIER_SAMPLES
 from clap_unified.geometry.homography_transfer import HomographyTransfer, region_anchors
 from clap_unified.imaging import PROTOCOLS, estimate_homography
 from clap_unified.imaging.estimate import method_names, strategy_of
@@ -151,6 +154,11 @@ def test_adaptive_budget_draws_more_only_when_right_samples_are_rare():
     b = estimate_homography(m, "clap", rng=1)
     assert a.diagnostics["adaptive_hypotheses"] > 1000
     assert np.array_equal(a.model, b.model)
+    # the first estimate's inlier ratio is what sized the second set
+    w = a.diagnostics["first_inlier_ratio"]
+    assert 0 < w < 1
+    assert a.diagnostics["adaptive_hypotheses"] == min(
+        PROTOCOLS["clap"]["max_hypotheses"], math.ceil(ALL_INLIER_SAMPLES / w**4))
 
 
 def test_adaptive_budget_needs_hypotheses_fit_draws():

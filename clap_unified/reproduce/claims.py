@@ -19,7 +19,8 @@ from dataclasses import dataclass
 __all__ = ["CLAIMS", "CLAIM_TITLES", "MARGIN", "VARIANT_KINDS", "VARIANT_NAMES", "VERDICTS", "WHY",
            "Claim", "alternatives_count", "alternatives_text", "chapter_claims", "claim_block",
            "claim_title", "describe_variant", "deviation", "evaluate_claims", "judge_variants",
-           "paired_differ", "paired_on_edge", "rates_differ", "verdict_lines", "wilson_lower"]
+           "paired_differ", "paired_on_edge", "rates_differ", "real_pair_verdicts", "steadier",
+           "verdict_lines", "wilson_lower"]
 
 #: The four verdicts a claim can get, from best to no data.
 VERDICTS = ("reproduced", "partly reproduced", "not reproduced", "data unavailable")
@@ -537,10 +538,46 @@ def _judge_closer(outputs):
     return _over_homography_sets(outputs, closer)
 
 
+def steadier(a, b) -> bool:
+    """Whether one method's results on a pair, seed by seed, spread narrower than another's
+    under the stability rule of the claim "CLAP steadier from seed to seed".
+
+    A spread is the range (max - min) of the Lie distances over the seeds, infinite when a
+    run returned no estimate; ``a`` is steadier when its spread is more than :data:`CLOSER`
+    times narrower than ``b``'s, and ``b``'s is not zero (two identical answers on every seed
+    are equally steady).
+
+    Parameters
+    ----------
+    a, b : sequence of float
+        The two methods' Lie distances on one pair, one per seed; None, NaN or inf for a run
+        with no estimate.
+
+    Returns
+    -------
+    bool
+
+    Examples
+    --------
+    >>> steadier([0.10, 0.12, 0.11], [0.10, 0.30, 0.20])
+    True
+    >>> steadier([0.10, 0.30], [0.10, None]), steadier([0.10, None], [0.10, 0.30])
+    (True, False)
+    >>> steadier([0.5, 0.5], [0.5, 0.5])
+    False
+    """
+    def spread(values):
+        v = [_v(x) for x in values]
+        return max(v) - min(v) if all(math.isfinite(x) for x in v) else math.inf
+
+    wa, wb = spread(a), spread(b)
+    return bool(wa * CLOSER < wb and wb > 1e-9)
+
+
 def _judge_stability(outputs):
-    def steadier(name, output):
+    def judge(name, output):
         rows = output["tables"]["stability"]
-        spread, failed_runs = {}, {}
+        lie, failed_runs = {}, {}
         # a run's failure, where the set defines one: the corner error against an exact truth,
         # else the error of homogr's validation points
         fails, bar = ((_failed, f"corner error above {FAILED_PX:g} px")
@@ -550,21 +587,19 @@ def _judge_stability(outputs):
                       if any(r.get("validation_px") is not None for r in rows)
                       else (None, ""))
         for r in rows:
-            spread.setdefault((r["pair"], r["method"]), []).append(_v(r["lie"]))
+            lie.setdefault((r["pair"], r["method"]), []).append(r["lie"])
             if fails is not None:
                 failed_runs.setdefault((r["pair"], r["method"]), []).append(fails(r))
-        pairs = sorted({p for p, _ in spread})
-        width = {k: (max(v) - min(v)) if all(math.isfinite(x) for x in v) else math.inf
-                 for k, v in spread.items()}
+        pairs = sorted({p for p, _ in lie})
 
         def narrower_on(p, a, b):
-            return width[(p, a)] * CLOSER < width[(p, b)] and width[(p, b)] > 1e-9
+            return steadier(lie[(p, a)], lie[(p, b)])
 
         def narrower(a, b):
             return sum(narrower_on(p, a, b) for p in pairs)
 
         clap, ransac = narrower("CLAP", "RANSAC"), narrower("RANSAC", "CLAP")
-        seeds = len(next(iter(spread.values()))) if spread else 0
+        seeds = len(next(iter(lie.values()))) if lie else 0
         label = output["data"].split(":")[0]
         numbers = {"pairs": len(pairs), "seeds": seeds, "CLAP_steadier": clap,
                    "RANSAC_steadier": ransac}
@@ -586,15 +621,16 @@ def _judge_stability(outputs):
                                f"{_pairs(clap)}, "
                                f"for RANSAC on {ransac}{failed}"), numbers
 
-    return _over_homography_sets(outputs, steadier)
+    return _over_homography_sets(outputs, judge)
 
 
 def real_pair_verdicts(rows) -> dict:
     """Per real panorama pair, how CLAP and RANSAC compare under the claim "similar accuracy":
-    ``{pair: {"similar", "close_sre", "ratio_gap", "sre"}}`` where ``close_sre`` says that
+    ``{pair: {"similar", "close_sre", "ratio_gap", "sre", "ratios"}}`` where ``close_sre`` says that
     their RMS errors on the matches both call inliers are within :data:`SIMILAR` times or
     :data:`SRE_TOLERANCE_PX`, ``ratio_gap`` is CLAP's inlier ratio minus RANSAC's (similar
-    when within :data:`MARGIN`), and ``sre`` the two errors (CLAP, RANSAC).
+    when within :data:`MARGIN`), ``sre`` the two errors and ``ratios`` the two inlier ratios
+    (CLAP, RANSAC).
 
     Parameters
     ----------
@@ -618,27 +654,28 @@ def real_pair_verdicts(rows) -> dict:
                               or 1 / SIMILAR <= ec / max(er, 1e-12) <= SIMILAR))
         gap = float(c["inlier_ratio"]) - float(r["inlier_ratio"])
         out[pair] = {"similar": close_sre and abs(gap) <= MARGIN, "close_sre": close_sre,
-                     "ratio_gap": gap, "sre": (ec, er)}
+                     "ratio_gap": gap, "sre": (ec, er),
+                     "ratios": (float(c["inlier_ratio"]), float(r["inlier_ratio"]))}
     return out
 
 
 def _judge_real(outputs):
     verdicts = real_pair_verdicts(outputs["stitching_real"]["tables"]["sre"])
-    by = verdicts
     similar = sum(v["similar"] for v in verdicts.values())
-    share = similar / len(by) if by else 0.0
+    n_pairs = len(verdicts)
+    share = similar / n_pairs if n_pairs else 0.0
     n = outputs["stitching_real"]["numbers"]
 
     def grade(k):
-        return ("reproduced" if wilson_lower(k, len(by)) >= 0.5 else
-                "partly reproduced" if k >= 0.5 * len(by) else "not reproduced")
+        return ("reproduced" if wilson_lower(k, n_pairs) >= 0.5 else
+                "partly reproduced" if k >= 0.5 * n_pairs else "not reproduced")
 
     verdict = grade(similar)
     # a verdict that one pair would change sits on the edge of its rule: the page says so
     edge = next((f"one pair {word} would read \"{grade(k)}\"" for k, word in
                  ((similar - 1, "fewer"), (similar + 1, "more"))
-                 if 0 <= k <= len(by) and grade(k) != verdict), "")
-    return verdict, (f"{len(by)} real pairs: similar on {similar} ({percent(share)}"
+                 if 0 <= k <= n_pairs and grade(k) != verdict), "")
+    return verdict, (f"{n_pairs} real pairs: similar on {similar} ({percent(share)}"
                      + (f"; on the edge of the rule: {edge}" if edge else "")
                      + f": RMS SRE on the "
                      f"matches both call inliers within {SIMILAR:g}x or {SRE_TOLERANCE_PX:g} px, "
@@ -647,7 +684,7 @@ def _judge_real(outputs):
                      f"{n['median_inlier_ratio']['CLAP']:.2f}, RANSAC "
                      f"{_v(n['median_sre_common']['RANSAC']):.2f} px / "
                      f"{n['median_inlier_ratio']['RANSAC']:.2f}"), \
-        {"pairs": len(by), "similar": similar, "share_similar": share, "edge": edge}
+        {"pairs": n_pairs, "similar": similar, "share_similar": share, "edge": edge}
 
 
 def _judge_evd(outputs):

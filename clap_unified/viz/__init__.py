@@ -21,14 +21,25 @@ from .plots import (
     plot_points_and_lines,
 )
 from .scenes import LineInput, LineScene, LineTruth, line_errors, line_scene
-from .style import METHOD_STYLE, book_style, format_table, markdown_table
+from .style import (
+    CANDIDATE_COLOUR,
+    CLUSTER_COLOURS,
+    METHOD_STYLE,
+    TRUTH_COLOUR,
+    book_style,
+    format_table,
+    markdown_table,
+)
 
 __all__ = [
+    "CANDIDATE_COLOUR",
+    "CLUSTER_COLOURS",
     "LANDMARK_STYLE",
     "METHOD_STYLE",
     "LineInput",
     "LineScene",
     "LineTruth",
+    "TRUTH_COLOUR",
     "book_style",
     "draw_detections",
     "draw_field",

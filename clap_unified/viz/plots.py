@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..geometry.lines import Line2D, canonical_lines
-from .style import METHOD_STYLE
+from .style import METHOD_STYLE, TRUTH_COLOUR
 
 __all__ = ["plot_accumulator", "plot_error_cdf", "plot_error_curves", "plot_hypotheses",
            "plot_points_and_lines"]
@@ -137,10 +137,10 @@ def plot_hypotheses(ax, models, *, values=None, origin=(0.0, 0.0), truth=None, c
         if truth is not None:
             t, r = _rho_from(truth, origin)
             target.scatter(t, r, marker="*", s=160 if big else 90, facecolor="none",
-                           edgecolor="crimson", lw=1.4, label="true line" if big else None)
+                           edgecolor=TRUTH_COLOUR, lw=1.4, label="true line" if big else None)
         if centres is not None and len(centres):
             t, r = _rho_from(centres, origin)
-            target.scatter(t, r, marker="x", s=60, color="crimson", lw=1.6,
+            target.scatter(t, r, marker="x", s=60, color=TRUTH_COLOUR, lw=1.6,
                            label="cluster centres" if big else None)
     if v is not None and colorbar_label is not None:
         ax.figure.colorbar(sc, ax=ax, label=colorbar_label)

@@ -4,7 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["METHOD_STYLE", "book_style", "format_table", "markdown_table"]
+__all__ = ["CANDIDATE_COLOUR", "CLUSTER_COLOURS", "METHOD_STYLE", "TRUTH_COLOUR", "book_style",
+           "format_table", "markdown_table"]
 
 # Okabe-Ito colours: distinguishable with the common colour-vision deficiencies.
 _PALETTE = ["#0072B2", "#D55E00", "#009E73", "#CC79A7", "#E69F00", "#56B4E9", "#000000"]
@@ -26,6 +27,15 @@ METHOD_STYLE = {
                   "label": "cv2.HoughLinesPointSet"},
     "open3d": {"color": "#CC79A7", "marker": "s", "linestyle": ":", "label": "Open3D RANSAC"},
 }
+
+#: The truth in figures (a true line, pose or structure): a colour no method has.
+TRUTH_COLOUR = "crimson"
+#: Candidate hypotheses drawn behind the answers.
+CANDIDATE_COLOUR = "0.6"
+#: CLAP's clusters, where a figure tells two apart: the first (or the one at the truth) in
+#: CLAP's own colour, the other in a purple no method has. A method's colour never marks
+#: something else.
+CLUSTER_COLOURS = (METHOD_STYLE["clap"]["color"], "#7B3294")
 
 
 #: Matplotlib settings applied by :func:`book_style`.
