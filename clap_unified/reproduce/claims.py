@@ -543,7 +543,7 @@ def steadier(a, b) -> bool:
     under the stability rule of the claim "CLAP steadier from seed to seed".
 
     A spread is the range (max - min) of the Lie distances over the seeds, infinite when a
-    run returned no estimate; ``a`` is steadier when its spread is more than :data:`CLOSER`
+    run returned no estimate; ``a`` is steadier when its spread is more than ``CLOSER``
     times narrower than ``b``'s, and ``b``'s is not zero (two identical answers on every seed
     are equally steady).
 
@@ -627,8 +627,8 @@ def _judge_stability(outputs):
 def real_pair_verdicts(rows) -> dict:
     """Per real panorama pair, how CLAP and RANSAC compare under the claim "similar accuracy":
     ``{pair: {"similar", "close_sre", "ratio_gap", "sre", "ratios"}}`` where ``close_sre`` says that
-    their RMS errors on the matches both call inliers are within :data:`SIMILAR` times or
-    :data:`SRE_TOLERANCE_PX`, ``ratio_gap`` is CLAP's inlier ratio minus RANSAC's (similar
+    their RMS errors on the matches both call inliers are within ``SIMILAR`` times or
+    ``SRE_TOLERANCE_PX``, ``ratio_gap`` is CLAP's inlier ratio minus RANSAC's (similar
     when within :data:`MARGIN`), ``sre`` the two errors and ``ratios`` the two inlier ratios
     (CLAP, RANSAC).
 
