@@ -1511,9 +1511,13 @@ def _explain_2d(numbers: dict, outputs: dict | None = None) -> str:
     def ok(r):
         return numbers[f"clap@{r}"]["ok"]
 
+    under = round(ok(best), 2) - round(ok(top), 2)  # as printed
     first = (f"CLAP's share of correct frames at the highest false-detection rate "
              f"({ok(top):.2f} at {percent(top)}) is not below its best ({ok(best):.2f} at "
-             f"{percent(best)}), so the first half holds" if robust else
+             f"{percent(best)}) by the rule (a drop counts when it is more than {MARGIN:g} "
+             f"and more than two standard errors)"
+             + (f": {under:.2f} under it, within that margin" if under > 0 else "")
+             + ", so the first half holds" if robust else
              f"CLAP's share of correct frames falls from its best, {ok(best):.2f} at "
              f"{percent(best)} false detections, to {ok(top):.2f} at {percent(top)}, a "
              f"drop beyond the paired test, so the first half (no fall as false "

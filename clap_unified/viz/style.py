@@ -33,8 +33,8 @@ TRUTH_COLOUR = "crimson"
 #: Candidate hypotheses drawn behind the answers.
 CANDIDATE_COLOUR = "0.6"
 #: CLAP's clusters, where a figure tells two apart: the first (or the one at the truth) in
-#: CLAP's own colour, the other in a purple no method has. A method's colour never marks
-#: something else.
+#: CLAP's own colour, the other in a purple no method has, so that in a figure of methods a
+#: method's colour marks nothing else.
 CLUSTER_COLOURS = (METHOD_STYLE["clap"]["color"], "#7B3294")
 
 
